@@ -1,0 +1,91 @@
+#include "inertial/inertia/consistency.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace inertial {
+
+ConsistencyReport CheckConsistency(const InertialParams& body, double relative_tolerance) {
+  ConsistencyReport r;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  r.finite = body.AllFinite();
+  r.mass = body.mass();
+  if (!r.finite) {
+    r.min_inertia_eigenvalue_origin = r.min_inertia_eigenvalue_com = r.min_triangle_margin = nan;
+    r.min_pseudo_inertia_eigenvalue = nan;
+    r.principal_moments_com.setConstant(nan);
+    r.reason = "non-finite parameter (NaN or Inf) in pi";
+    return r;
+  }
+  std::ostringstream why;
+  auto add = [&why](const std::string& s) {
+    if (why.tellp() > 0) why << "; ";
+    why << s;
+  };
+
+  r.mass_positive = r.mass > 0.0;
+  if (!r.mass_positive) {
+    std::ostringstream os;
+    os << "mass not positive: m = " << r.mass << " kg";
+    add(os.str());
+  }
+
+  const Eigen::SelfAdjointEigenSolver<Matrix3> eig_origin(body.rotational_inertia_about_origin(),
+                                                          Eigen::EigenvaluesOnly);
+  r.min_inertia_eigenvalue_origin = eig_origin.eigenvalues()[0];
+  const double origin_scale = std::max(std::abs(eig_origin.eigenvalues()[2]), std::numeric_limits<double>::min());
+  r.inertia_positive_definite_origin = r.min_inertia_eigenvalue_origin > relative_tolerance * origin_scale;
+
+  if (r.mass_positive) {
+    const Eigen::SelfAdjointEigenSolver<Matrix3> eig_com(body.rotational_inertia_about_com(), Eigen::EigenvaluesOnly);
+    const Vector3 D = eig_com.eigenvalues();  // ascending
+    r.principal_moments_com = D;
+    r.min_inertia_eigenvalue_com = D[0];
+    // With D ascending, the binding inequality is D0 + D1 - D2 (the others are then >= it only if
+    // all D are >= 0, so take the minimum of all three explicitly).
+    const double t0 = D[1] + D[2] - D[0];
+    const double t1 = D[0] + D[2] - D[1];
+    const double t2 = D[0] + D[1] - D[2];
+    r.min_triangle_margin = std::min({t0, t1, t2});
+    const double scale = std::max(std::abs(D[2]), std::numeric_limits<double>::min());
+    r.inertia_positive_definite_com = D[0] > relative_tolerance * scale;
+    r.triangle_inequalities = r.min_triangle_margin > relative_tolerance * scale;
+    if (!r.inertia_positive_definite_com) {
+      std::ostringstream os;
+      os << "rotational inertia at the COM not positive definite: smallest principal moment " << D[0]
+         << " kg m^2";
+      add(os.str());
+    }
+    if (!r.triangle_inequalities) {
+      std::ostringstream os;
+      os << "triangle inequality (eq. 4) violated at the COM: smallest of Dy+Dz-Dx, Dx+Dz-Dy, Dx+Dy-Dz is "
+         << r.min_triangle_margin << " kg m^2 (principal moments " << D[0] << ", " << D[1] << ", " << D[2]
+         << " kg m^2)";
+      add(os.str());
+    }
+  } else {
+    r.min_inertia_eigenvalue_com = r.min_triangle_margin = nan;
+    r.principal_moments_com.setConstant(nan);
+  }
+
+  const Eigen::SelfAdjointEigenSolver<Matrix4> eig_J(body.pseudo_inertia(), Eigen::EigenvaluesOnly);
+  r.min_pseudo_inertia_eigenvalue = eig_J.eigenvalues()[0];
+  const double J_scale = std::max(eig_J.eigenvalues().cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  r.pseudo_inertia_positive_definite = r.min_pseudo_inertia_eigenvalue > relative_tolerance * J_scale;
+  if (!r.pseudo_inertia_positive_definite) {
+    std::ostringstream os;
+    os << "pseudo-inertia J not positive definite: smallest eigenvalue " << r.min_pseudo_inertia_eigenvalue;
+    add(os.str());
+  }
+  r.reason = why.str();
+  return r;
+}
+
+bool IsPhysicallyConsistent(const InertialParams& body, double relative_tolerance) {
+  return CheckConsistency(body, relative_tolerance).fully_consistent();
+}
+
+}  // namespace inertial

@@ -1,0 +1,177 @@
+#include "inertial/inertia/log_cholesky.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <stdexcept>
+
+#include "inertial/inertia/consistency.hpp"
+
+namespace inertial {
+
+using namespace theta_index;  // NOLINT: index names of theta
+namespace pi_ix = pi_index;
+
+Matrix4 LogCholeskyFactor(const Vector10& theta) {
+  const double s = std::exp(theta[kAlpha]);
+  Matrix4 U;
+  U << std::exp(theta[kD1]), theta[kS12], theta[kS13], theta[kT1],  //
+      0.0, std::exp(theta[kD2]), theta[kS23], theta[kT2],           //
+      0.0, 0.0, std::exp(theta[kD3]), theta[kT3],                   //
+      0.0, 0.0, 0.0, 1.0;
+  return s * U;
+}
+
+Vector10 PiFromLogCholesky(const Vector10& theta, Matrix10* J_pi_theta) {
+  const double E = std::exp(2.0 * theta[kAlpha]);
+  const double e1 = std::exp(theta[kD1]), e2 = std::exp(theta[kD2]), e3 = std::exp(theta[kD3]);
+  const double s12 = theta[kS12], s23 = theta[kS23], s13 = theta[kS13];
+  const double t1 = theta[kT1], t2 = theta[kT2], t3 = theta[kT3];
+
+  // Second moments Sigma / E (see the header's closed form).
+  const double S00 = e1 * e1 + s12 * s12 + s13 * s13 + t1 * t1;
+  const double S11 = e2 * e2 + s23 * s23 + t2 * t2;
+  const double S22 = e3 * e3 + t3 * t3;
+  const double S01 = s12 * e2 + s13 * s23 + t1 * t2;
+  const double S12 = s23 * e3 + t2 * t3;
+  const double S02 = s13 * e3 + t1 * t3;
+
+  Vector10 pi;
+  pi[pi_ix::kMass] = E;
+  pi[pi_ix::kHx] = E * t1;
+  pi[pi_ix::kHy] = E * t2;
+  pi[pi_ix::kHz] = E * t3;
+  pi[pi_ix::kIxx] = E * (S11 + S22);
+  pi[pi_ix::kIyy] = E * (S00 + S22);
+  pi[pi_ix::kIzz] = E * (S00 + S11);
+  pi[pi_ix::kIxy] = -E * S01;
+  pi[pi_ix::kIyz] = -E * S12;
+  pi[pi_ix::kIxz] = -E * S02;
+
+  if (J_pi_theta != nullptr) {
+    // d(Sigma/E)/d(theta) for theta without alpha; rows S00, S11, S22, S01, S12, S02.
+    Eigen::Matrix<double, 6, 10> dS = Eigen::Matrix<double, 6, 10>::Zero();
+    dS(0, kD1) = 2 * e1 * e1, dS(0, kS12) = 2 * s12, dS(0, kS13) = 2 * s13, dS(0, kT1) = 2 * t1;
+    dS(1, kD2) = 2 * e2 * e2, dS(1, kS23) = 2 * s23, dS(1, kT2) = 2 * t2;
+    dS(2, kD3) = 2 * e3 * e3, dS(2, kT3) = 2 * t3;
+    dS(3, kD2) = s12 * e2, dS(3, kS12) = e2, dS(3, kS13) = s23, dS(3, kS23) = s13, dS(3, kT1) = t2, dS(3, kT2) = t1;
+    dS(4, kD3) = s23 * e3, dS(4, kS23) = e3, dS(4, kT2) = t3, dS(4, kT3) = t2;
+    dS(5, kD3) = s13 * e3, dS(5, kS13) = e3, dS(5, kT1) = t3, dS(5, kT3) = t1;
+
+    Matrix10& J = *J_pi_theta;
+    J.setZero();
+    J(pi_ix::kHx, kT1) = E;
+    J(pi_ix::kHy, kT2) = E;
+    J(pi_ix::kHz, kT3) = E;
+    J.row(pi_ix::kIxx) = E * (dS.row(1) + dS.row(2));
+    J.row(pi_ix::kIyy) = E * (dS.row(0) + dS.row(2));
+    J.row(pi_ix::kIzz) = E * (dS.row(0) + dS.row(1));
+    J.row(pi_ix::kIxy) = -E * dS.row(3);
+    J.row(pi_ix::kIyz) = -E * dS.row(4);
+    J.row(pi_ix::kIxz) = -E * dS.row(5);
+    J.col(kAlpha) = 2.0 * pi;  // every entry carries the factor e^{2 alpha}
+  }
+  return pi;
+}
+
+double LogCholeskyJacobianDeterminant(const Vector10& theta) {
+  return -32.0 * std::exp(20.0 * theta[kAlpha] + 2.0 * theta[kD1] + 3.0 * theta[kD2] + 4.0 * theta[kD3]);
+}
+
+bool UpperCholesky(const Matrix4& J, Matrix4* U) {
+  if (!J.allFinite()) return false;
+  // With P the exchange (reversal) permutation, P J P = L L^T (lower Cholesky) gives
+  // J = (P L P)(P L P)^T and P L P is upper triangular with the same positive diagonal.
+  const Matrix4 Jr = J.reverse();  // reverses rows and columns: P J P
+  const Eigen::LLT<Matrix4> llt(Jr);
+  if (llt.info() != Eigen::Success) return false;
+  const Matrix4 L = llt.matrixL();
+  const Matrix4 result = L.reverse();
+  if (!result.allFinite() || (result.diagonal().array() <= 0.0).any()) return false;
+  *U = result;
+  return true;
+}
+
+LogCholeskyParameterization::LogCholeskyParameterization() = default;
+
+LogCholeskyParameterization::LogCholeskyParameterization(const InertialParams& reference) {
+  const ConsistencyReport report = CheckConsistency(reference);
+  if (!report.fully_consistent()) {
+    throw std::invalid_argument("log-Cholesky reference body is not fully physically consistent: " + report.reason);
+  }
+  J0_ = reference.pseudo_inertia();
+  if (!UpperCholesky(J0_, &U0_)) {
+    throw std::invalid_argument("log-Cholesky reference body: pseudo-inertia has no Cholesky factor");
+  }
+  identity_reference_ = false;
+}
+
+Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi_theta) const {
+  if (identity_reference_) return PiFromLogCholesky(theta, J_pi_theta);
+  const Matrix4 U = LogCholeskyFactor(theta);
+  const Matrix4 UJ0 = U * J0_;
+  const Vector10 pi = PiFromPseudoInertia(UJ0 * U.transpose());
+  if (J_pi_theta != nullptr) {
+    // dJ = dU J0 U^T + U J0 dU^T, and pi is linear in J.
+    const double ea = std::exp(theta[kAlpha]);
+    const double diag[3] = {std::exp(theta[kD1]), std::exp(theta[kD2]), std::exp(theta[kD3])};
+    auto column = [&](const Matrix4& dU) {
+      const Matrix4 A = dU * J0_ * U.transpose();
+      return PiFromPseudoInertia(A + A.transpose());
+    };
+    J_pi_theta->col(kAlpha) = 2.0 * pi;
+    const int d_index[3] = {kD1, kD2, kD3};
+    for (int i = 0; i < 3; ++i) {
+      Matrix4 dU = Matrix4::Zero();
+      dU(i, i) = ea * diag[i];
+      J_pi_theta->col(d_index[i]) = column(dU);
+    }
+    struct Entry {
+      int index, row, col;
+    };
+    const Entry entries[6] = {{kS12, 0, 1}, {kS23, 1, 2}, {kS13, 0, 2}, {kT1, 0, 3}, {kT2, 1, 3}, {kT3, 2, 3}};
+    for (const Entry& e : entries) {
+      Matrix4 dU = Matrix4::Zero();
+      dU(e.row, e.col) = ea;
+      J_pi_theta->col(e.index) = column(dU);
+    }
+  }
+  return pi;
+}
+
+bool LogCholeskyParameterization::FromPi(const Vector10& pi, Vector10* theta) const {
+  if (!pi.allFinite()) return false;
+  Matrix4 U1;
+  if (!UpperCholesky(PseudoInertiaFromPi(pi), &U1)) return false;
+  // J = U1 U1^T = U J0 U^T with J0 = U0 U0^T  =>  U = U1 U0^{-1} (upper triangular, positive diagonal).
+  const Matrix4 U = identity_reference_ ? U1 : Matrix4(U0_.transpose().triangularView<Eigen::Lower>().solve(U1.transpose()).transpose());
+  const double ea = U(3, 3);
+  Vector10 result;
+  result[kAlpha] = std::log(ea);
+  result[kD1] = std::log(U(0, 0) / ea);
+  result[kD2] = std::log(U(1, 1) / ea);
+  result[kD3] = std::log(U(2, 2) / ea);
+  result[kS12] = U(0, 1) / ea;
+  result[kS23] = U(1, 2) / ea;
+  result[kS13] = U(0, 2) / ea;
+  result[kT1] = U(0, 3) / ea;
+  result[kT2] = U(1, 3) / ea;
+  result[kT3] = U(2, 3) / ea;
+  if (!result.allFinite()) return false;
+  *theta = result;
+  return true;
+}
+
+Vector10 LogCholeskyParameterization::ThetaOf(const InertialParams& body) const {
+  const ConsistencyReport report = CheckConsistency(body);
+  if (!report.fully_consistent()) {
+    throw std::invalid_argument("no log-Cholesky parameters: the body is not fully physically consistent: " +
+                                report.reason);
+  }
+  Vector10 theta;
+  if (!FromPi(body.vector(), &theta)) {
+    throw std::invalid_argument("no log-Cholesky parameters: the pseudo-inertia has no Cholesky factor");
+  }
+  return theta;
+}
+
+}  // namespace inertial

@@ -1,0 +1,40 @@
+#include "inertial/model/rigid_body_regressor.hpp"
+
+#include <Eigen/Geometry>
+
+namespace inertial {
+
+Eigen::Matrix<double, 3, 6> InertiaTimesVectorMap(const Vector3& x) {
+  Eigen::Matrix<double, 3, 6> L;
+  //   Ixx    Iyy    Izz    Ixy    Iyz    Ixz
+  L << x[0], 0.0, 0.0, x[1], 0.0, x[2],  //
+      0.0, x[1], 0.0, x[0], x[2], 0.0,   //
+      0.0, 0.0, x[2], 0.0, x[1], x[0];
+  return L;
+}
+
+Matrix6x10 RigidBodyRegressor(const Vector6& xi, const Vector6& xi_dot, const Vector3& g_B) {
+  // With p = I xi = [n; f], n = I_o omega + h x v, f = m v + omega x h, eq. (12) expands to
+  //   moment = I_o alpha + omega x (I_o omega) + h x a + omega x (h x v) + v x (omega x h)
+  //   force  = m (a + omega x v) + alpha x h + omega x (omega x h)
+  // with alpha = d(omega)/dt, a = dv/dt - g (gravity as a frame acceleration).
+  const Vector3 omega = xi.head<3>();
+  const Vector3 v = xi.tail<3>();
+  const Vector3 alpha = xi_dot.head<3>();
+  const Vector3 a = xi_dot.tail<3>() - g_B;
+  const Matrix3 S_omega = Skew(omega);
+  const Matrix3 S_v = Skew(v);
+
+  Matrix6x10 Y = Matrix6x10::Zero();
+  // m
+  Y.block<3, 1>(3, pi_index::kMass) = a + omega.cross(v);
+  // h: moment h x a + omega x (h x v) + v x (omega x h) = (-S(a) - S(omega) S(v) + S(v) S(omega)) h
+  Y.block<3, 3>(0, pi_index::kHx) = -Skew(a) - S_omega * S_v + S_v * S_omega;
+  //    force alpha x h + omega x (omega x h) = (S(alpha) + S(omega)^2) h
+  Y.block<3, 3>(3, pi_index::kHx) = Skew(alpha) + S_omega * S_omega;
+  // rotational inertia: I_o alpha + omega x (I_o omega)
+  Y.block<3, 6>(0, pi_index::kIxx) = InertiaTimesVectorMap(alpha) + S_omega * InertiaTimesVectorMap(omega);
+  return Y;
+}
+
+}  // namespace inertial

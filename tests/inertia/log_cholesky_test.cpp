@@ -1,0 +1,255 @@
+#include "inertial/inertia/log_cholesky.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <Eigen/LU>
+#include <limits>
+
+#include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "test_support.hpp"
+
+namespace inertial {
+namespace {
+
+using testing::CentralDifference;
+using testing::RelativeError;
+using testing::Rng;
+using namespace theta_index;
+
+// The closed form of pi(theta) equals pi of the matrix product U U^T (eq. 7-8), entry by entry.
+TEST(LogCholesky, ClosedFormMatchesMatrixProduct) {
+  Rng rng(11);
+  for (int n = 0; n < 2000; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-3.0, 3.0);
+    const Matrix4 U = LogCholeskyFactor(theta);
+    const Vector10 expected = PiFromPseudoInertia(U * U.transpose());
+    const Vector10 pi = PiFromLogCholesky(theta);
+    EXPECT_LT(RelativeError(pi, expected), 1e-13) << theta.transpose();
+  }
+}
+
+// It is U U^T, not the printed eq. (9) (which is pi(U^T U)): m = e^{2 alpha} and h = m t.
+TEST(LogCholesky, MassIsExpTwoAlphaAndFirstMomentIsMassTimesT) {
+  Vector10 theta;
+  theta << 0.3, -0.2, 0.1, 0.4, 0.5, -0.7, 0.9, 0.25, -0.5, 1.5;
+  const Vector10 pi = PiFromLogCholesky(theta);
+  const double m = std::exp(0.6);
+  EXPECT_NEAR(pi[pi_index::kMass], m, 1e-14);
+  EXPECT_NEAR(pi[pi_index::kHx], m * 0.25, 1e-14);
+  EXPECT_NEAR(pi[pi_index::kHy], m * -0.5, 1e-14);
+  EXPECT_NEAR(pi[pi_index::kHz], m * 1.5, 1e-14);
+  // The printed eq. (9)'s first entry, e^{2a}(t.t + 1), would be the (4,4) entry of U^T U instead.
+  const Matrix4 U = LogCholeskyFactor(theta);
+  EXPECT_NEAR((U.transpose() * U)(3, 3), m * (0.25 * 0.25 + 0.25 + 1.5 * 1.5 + 1.0), 1e-12);
+}
+
+TEST(LogCholesky, JacobianMatchesCentralDifferences) {
+  Rng rng(12);
+  const std::function<Vector10(const Vector10&)> f = [](const Vector10& x) { return PiFromLogCholesky(x); };
+  for (int n = 0; n < 500; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
+    Matrix10 J;
+    PiFromLogCholesky(theta, &J);
+    const Matrix10 Jfd = CentralDifference<10, 10>(f, theta);
+    EXPECT_LT(RelativeError(J, Jfd), 1e-6) << theta.transpose();
+  }
+  // Hard points: very negative d (flat body), tiny mass.
+  Vector10 flat = Vector10::Zero();
+  flat[kD3] = -8.0;
+  flat[kAlpha] = -6.0;
+  Matrix10 J;
+  PiFromLogCholesky(flat, &J);
+  const Matrix10 Jfd = CentralDifference<10, 10>(f, flat, 1e-7);
+  EXPECT_LT((J - Jfd).cwiseAbs().maxCoeff() / J.cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(LogCholesky, DeterminantHasClosedFormAndNeverVanishes) {
+  Rng rng(13);
+  for (int n = 0; n < 2000; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
+    Matrix10 J;
+    PiFromLogCholesky(theta, &J);
+    const double det = J.determinant();
+    const double closed = LogCholeskyJacobianDeterminant(theta);
+    EXPECT_NEAR(det / closed, 1.0, 1e-9) << theta.transpose();
+    EXPECT_NE(closed, 0.0);
+  }
+}
+
+// theta -> pi -> theta over 10^4 seeded theta with |theta_i| <= 5. Storing pi in double rounds each
+// entry by up to 2^-53 relative; at the extremes of this box that rounding alone moves theta by more
+// than 1e-9 (J_pi_theta is then badly conditioned: e.g. e^{d} = e^-5 beside shears and offsets of 5).
+// So the test asserts (a) error < 1e-9 wherever the first-order bound of that inherent error,
+// |J_pi_theta^{-1}| |pi| u, is below 1e-11, and (b) everywhere, error <= 100 x that bound (the inverse
+// loses at most two digits to its own arithmetic).
+TEST(LogCholesky, RoundTripThetaPiTheta) {
+  Rng rng(14);
+  const LogCholeskyParameterization param;
+  const double u = 0.5 * std::numeric_limits<double>::epsilon();
+  int well_conditioned = 0;
+  double worst_ratio = 0.0, worst_well_conditioned = 0.0;
+  for (int n = 0; n < 10000; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-5.0, 5.0);
+    Matrix10 J;
+    const Vector10 pi = PiFromLogCholesky(theta, &J);
+    Vector10 back;
+    ASSERT_TRUE(param.FromPi(pi, &back)) << theta.transpose();
+    const Vector10 inherent = J.inverse().cwiseAbs() * pi.cwiseAbs() * u;
+    double err = 0.0, bound = 0.0;
+    for (int i = 0; i < 10; ++i) {
+      const double scale = std::max(1.0, std::abs(theta[i]));
+      err = std::max(err, std::abs(back[i] - theta[i]) / scale);
+      bound = std::max(bound, inherent[i] / scale);
+    }
+    EXPECT_LE(err, 100.0 * bound + 1e-15) << theta.transpose();
+    worst_ratio = std::max(worst_ratio, err / bound);
+    if (bound <= 1e-11) {
+      ++well_conditioned;
+      worst_well_conditioned = std::max(worst_well_conditioned, err);
+      EXPECT_LT(err, 1e-9) << theta.transpose();
+    }
+  }
+  // A good part of the box is well conditioned: the bound must not excuse every sample.
+  EXPECT_GT(well_conditioned, 3000);  // 3712 of 10^4 with seed 14
+  RecordProperty("well_conditioned_samples", well_conditioned);
+  RecordProperty("worst_error_well_conditioned", std::to_string(worst_well_conditioned));
+  RecordProperty("worst_error_over_bound", std::to_string(worst_ratio));
+}
+
+// Moderate theta: the round trip is accurate to 1e-9 for every sample.
+TEST(LogCholesky, RoundTripModerateThetaEverywhere) {
+  Rng rng(19);
+  const LogCholeskyParameterization param;
+  for (int n = 0; n < 10000; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
+    Vector10 back;
+    ASSERT_TRUE(param.FromPi(param.ToPi(theta), &back));
+    EXPECT_LT(RelativeError(back, theta), 1e-9) << theta.transpose();
+  }
+}
+
+// pi -> theta -> pi for consistent bodies: the forward map is well conditioned.
+TEST(LogCholesky, RoundTripPiThetaPi) {
+  Rng rng(20);
+  const LogCholeskyParameterization param;
+  for (int n = 0; n < 10000; ++n) {
+    Pose pose;
+    pose.R_BC = rng.Rotation();
+    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const InertialParams body =
+        BodyFromSecondMoments(rng.Uniform(0.01, 10.0), rng.UniformVector<3>(1e-4, 1.0), pose);
+    const Vector10 theta = param.ThetaOf(body);
+    EXPECT_LT(RelativeError(param.ToPi(theta), body.vector()), 1e-12);
+  }
+}
+
+TEST(LogCholesky, EveryThetaGivesAFullyConsistentBody) {
+  Rng rng(15);
+  for (int n = 0; n < 5000; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-3.0, 3.0);
+    const ConsistencyReport report = CheckConsistency(InertialParams::FromVector(PiFromLogCholesky(theta)));
+    EXPECT_TRUE(report.fully_consistent()) << report.reason << " at " << theta.transpose();
+  }
+}
+
+TEST(LogCholesky, InverseRefusesInconsistentBodies) {
+  const LogCholeskyParameterization param;
+  Vector10 theta = Vector10::Constant(42.0);
+  // A thin plate: Dz = Dx + Dy (not fully consistent).
+  const Vector10 plate = BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector();
+  EXPECT_THROW(param.ThetaOf(InertialParams::FromVector(plate)), std::invalid_argument);
+  // Negative mass.
+  Vector10 negative = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
+  negative[pi_index::kMass] = -1.0;
+  EXPECT_FALSE(param.FromPi(negative, &theta));
+  EXPECT_EQ(theta, Vector10::Constant(42.0));  // untouched
+  try {
+    param.ThetaOf(InertialParams::FromVector(negative));
+    FAIL() << "expected a throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("mass not positive"), std::string::npos) << e.what();
+  }
+  Vector10 nan = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
+  nan[pi_index::kIxy] = std::nan("");
+  EXPECT_FALSE(param.FromPi(nan, &theta));
+}
+
+// Eq. (11): theta = 0 is the reference body; t translates it, alpha scales its density, d stretches it.
+TEST(LogCholeskyRelative, PhysicalMeaningOfTheParameters) {
+  Rng rng(16);
+  for (int n = 0; n < 200; ++n) {
+    Pose pose;
+    pose.R_BC = rng.Rotation();
+    pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+    const InertialParams reference = SolidBox(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0),
+                                              rng.Uniform(0.05, 1.0), pose);
+    const LogCholeskyParameterization param(reference);
+    EXPECT_LT(RelativeError(param.ThetaOf(reference), Vector10::Zero()), 1e-12);
+    EXPECT_LT(RelativeError(param.ToPi(Vector10::Zero()), reference.vector()), 1e-13);
+
+    // Translate by p: theta = [0, 0, 0, 0, 0, 0, 0, p].
+    const Vector3 p = rng.UniformVector<3>(-1.0, 1.0);
+    const InertialParams moved = reference.Transformed(Matrix3::Identity(), p);
+    Vector10 expected = Vector10::Zero();
+    expected.segment<3>(kT1) = p;
+    EXPECT_LT(RelativeError(param.ThetaOf(moved), expected), 1e-10);
+
+    // Density scaled by k: alpha = log(k) / 2.
+    const double k = rng.Uniform(0.1, 10.0);
+    expected.setZero();
+    expected[kAlpha] = 0.5 * std::log(k);
+    EXPECT_LT(RelativeError(param.ThetaOf(InertialParams::FromVector(k * reference.vector())), expected), 1e-10);
+  }
+  // Stretch along z by e^d for a box in its own frame: d3 = d (density unchanged, so mass scales by e^d
+  // too: alpha = d / 2).
+  const double d = 0.4;
+  const InertialParams box = SolidBox(2.0, 0.3, 0.4, 0.5);
+  const InertialParams stretched = SolidBox(2.0 * std::exp(d), 0.3, 0.4, 0.5 * std::exp(d));
+  Vector10 expected = Vector10::Zero();
+  expected[kAlpha] = d / 2.0;
+  expected[kD3] = d;  // U = e^{d/2} diag(1, 1, e^d, 1): alpha = d/2, d1 = d2 = 0, d3 = d
+  EXPECT_LT(RelativeError(LogCholeskyParameterization(box).ThetaOf(stretched), expected), 1e-12);
+}
+
+TEST(LogCholeskyRelative, JacobianMatchesCentralDifferencesAndRoundTrips) {
+  Rng rng(17);
+  for (int n = 0; n < 200; ++n) {
+    Pose pose;
+    pose.R_BC = rng.Rotation();
+    pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+    const InertialParams reference =
+        SolidEllipsoid(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), pose);
+    const LogCholeskyParameterization param(reference);
+    const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
+    Matrix10 J;
+    const Vector10 pi = param.ToPi(theta, &J);
+    const std::function<Vector10(const Vector10&)> f = [&](const Vector10& x) { return param.ToPi(x); };
+    EXPECT_LT(RelativeError(J, CentralDifference<10, 10>(f, theta)), 1e-6);
+    Vector10 back;
+    ASSERT_TRUE(param.FromPi(pi, &back));
+    EXPECT_LT(RelativeError(back, theta), 1e-9);
+  }
+}
+
+// The general path (eq. 11 with J0 = 1 given as a body) equals the closed form.
+TEST(LogCholeskyRelative, IdentityReferenceAsABodyEqualsClosedForm) {
+  const LogCholeskyParameterization general(InertialParams::FromPseudoInertia(Matrix4::Identity()));
+  ASSERT_FALSE(general.has_identity_reference());
+  Rng rng(18);
+  for (int n = 0; n < 200; ++n) {
+    const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
+    Matrix10 J_closed, J_general;
+    const Vector10 closed = PiFromLogCholesky(theta, &J_closed);
+    EXPECT_LT(RelativeError(general.ToPi(theta, &J_general), closed), 1e-13);
+    EXPECT_LT(RelativeError(J_general, J_closed), 1e-12);
+  }
+}
+
+TEST(LogCholeskyRelative, RejectsDegenerateReference) {
+  EXPECT_THROW(LogCholeskyParameterization(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0))), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace inertial

@@ -1,0 +1,59 @@
+/// @file test_support.hpp
+/// Shared test helpers: seeded random draws and central-difference Jacobians.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <functional>
+#include <random>
+
+#include "inertial/inertia/types.hpp"
+
+namespace inertial::testing {
+
+/// Uniform draws on [lo, hi] from a local, seeded generator (never Eigen::Random).
+class Rng {
+ public:
+  explicit Rng(unsigned seed) : gen_(seed) {}
+  double Uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(gen_); }
+  double Normal(double sigma = 1.0) { return std::normal_distribution<double>(0.0, sigma)(gen_); }
+  template <int N>
+  Eigen::Matrix<double, N, 1> UniformVector(double lo, double hi) {
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) v[i] = Uniform(lo, hi);
+    return v;
+  }
+  /// A uniformly distributed rotation (from a uniformly distributed unit quaternion).
+  Matrix3 Rotation() {
+    Eigen::Vector4d q(Normal(), Normal(), Normal(), Normal());
+    q.normalize();
+    return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+  }
+  std::mt19937& engine() { return gen_; }
+
+ private:
+  std::mt19937 gen_;
+};
+
+/// Central-difference Jacobian of f: R^N -> R^M at x with step h.
+template <int M, int N>
+Eigen::Matrix<double, M, N> CentralDifference(const std::function<Eigen::Matrix<double, M, 1>(const Eigen::Matrix<double, N, 1>&)>& f,
+                                              const Eigen::Matrix<double, N, 1>& x, double h = 1e-6) {
+  Eigen::Matrix<double, M, N> J;
+  for (int k = 0; k < N; ++k) {
+    Eigen::Matrix<double, N, 1> xp = x, xm = x;
+    xp[k] += h;
+    xm[k] -= h;
+    J.col(k) = (f(xp) - f(xm)) / (2.0 * h);
+  }
+  return J;
+}
+
+/// Largest entry of |A - B| divided by max(1, largest entry of |B|).
+template <typename A, typename B>
+double RelativeError(const A& a, const B& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+}  // namespace inertial::testing

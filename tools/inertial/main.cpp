@@ -1,0 +1,36 @@
+// inertial: the command-line tool. Thin: argument parsing (CLI11), wiring, exit codes.
+#include <exception>
+#include <iostream>
+
+#include "commands.hpp"
+#include "exit_codes.hpp"
+
+int main(int argc, char** argv) {
+  using namespace inertial::cli;
+  CLI::App app{
+      "inertial: physically consistent rigid-body inertia (log-Cholesky parameterization, Rucker & Wensing 2022).\n"
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid value, 4 inconsistent body, 5 I/O error."};
+  app.require_subcommand(1);
+  StudyCommand study;
+  ConvertCommand convert;
+  CLI::App* study_app = AddStudyCommand(app, &study);
+  CLI::App* convert_app = AddConvertCommand(app, &convert);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);  // help on stdout, exit 0
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and usage hint to stderr
+    return kUsage;
+  }
+  try {
+    if (study_app->parsed()) return RunStudyCommand(study);
+    if (convert_app->parsed()) return RunConvertCommand(convert);
+  } catch (const std::exception& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kInternalError;
+  }
+  return kUsage;
+}
