@@ -147,6 +147,8 @@ nlohmann::json StudyToJson(const StudyResult& result) {
                                                 {"max_iteration_stops", m.max_iteration_stops},
                                                 {"numerical_failures", m.numerical_failures},
                                                 {"inconsistent_results", m.inconsistent_results},
+                                                {"near_degenerate_results", m.near_degenerate_results},
+                                                {"suboptimal_results", m.suboptimal_results},
                                                 {"stop_reasons", stops},
                                                 {"seconds_per_iteration", m.seconds_per_iteration},
                                                 {"median_iterations", m.median_iterations},

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -148,9 +149,19 @@ StudyResult RunStudy(const StudyOptions& options) {
       m.reason = fit.reason;
       m.cost = fit.cost;
       m.pi = fit.pi;
-      m.consistent = IsPhysicallyConsistent(InertialParams::FromVector(fit.pi));
+      m.consistent = parameterizations[k]->YieldsConsistentBody(fit.x);
+      m.near_degenerate = m.consistent && !IsPhysicallyConsistent(InertialParams::FromVector(fit.pi));
       m.failed = !fit.converged() || (k != kLinear && !m.consistent);
       m.parameter_error = RelativeParameterError(fit.pi, out.pi_true);
+    }
+    // The best cost any consistent method reached on this body.
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = kEigenvalue; k < kStudyMethods; ++k) {
+      if (out.methods[k].consistent) best = std::min(best, out.methods[k].cost);
+    }
+    for (int k = kEigenvalue; k < kStudyMethods; ++k) {
+      MethodOutcome& m = out.methods[k];
+      m.suboptimal = m.consistent && m.cost > best * (1.0 + kSuboptimalRelativeCost);
     }
   };
 
@@ -213,6 +224,8 @@ StudyResult RunStudy(const StudyOptions& options) {
       if (m.reason == StopReason::kMaxIterations) ++ms.max_iteration_stops;
       if (m.reason == StopReason::kNumericalFailure) ++ms.numerical_failures;
       if (!m.consistent) ++ms.inconsistent_results;
+      if (m.near_degenerate) ++ms.near_degenerate_results;
+      if (m.suboptimal) ++ms.suboptimal_results;
     }
     ms.seconds_per_iteration = ms.total_iterations > 0 ? ms.total_seconds / ms.total_iterations : 0.0;
     ms.median_iterations = Median(iterations);

@@ -324,7 +324,9 @@ TEST(EigenvalueSingularity, DeterminantHasTheClosedForm) {
     const double closed = EigenvalueJacobianDeterminant(phi);
     // |det - closed| relative to Hadamard's bound, the scale of det's rounding error.
     EXPECT_LT(std::abs(J.determinant() - closed) / ColumnNormProduct(J), 1e-12) << phi.transpose();
-    if (std::abs(closed) > 1e-6 * ColumnNormProduct(J)) EXPECT_NEAR(J.determinant() / closed, 1.0, 1e-8);
+    if (std::abs(closed) > 1e-6 * ColumnNormProduct(J)) {
+      EXPECT_NEAR(J.determinant() / closed, 1.0, 1e-8);
+    }
   }
   // At beta = 0 the factor 2 (1 - cos t)/t^2 is 1.
   const Vector10 phi = Phi(2.0, Vector3(0.1, 0.2, 0.3), Vector3::Zero(), Vector3(0.1, 0.2, 0.4));

@@ -26,6 +26,12 @@ class Parameterization {
   /// the eigenvalue map). Returns false, leaving *x untouched, when pi is outside the map's image
   /// (for the consistent parameterizations: pi not fully physically consistent) or not finite.
   virtual bool FromPi(const Vector10& pi, Vector10* x) const = 0;
+
+  /// Whether x maps to a fully physically consistent body by construction: for the log-Cholesky and
+  /// exponential maps every finite x does (even where the body is so thin that its margins round to
+  /// zero); for the eigenvalue map x must have m > 0 and L > 0. The default checks the margins of
+  /// pi(x) numerically (CheckConsistency), as the linear map must.
+  virtual bool YieldsConsistentBody(const Vector10& x) const;
 };
 
 }  // namespace inertial

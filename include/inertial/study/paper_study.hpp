@@ -13,9 +13,14 @@
 ///    (linear, eigenvalue, exponential, log-Cholesky), all started from the body whose 6x6 spatial
 ///    inertia is the identity (m = 1 kg, c = 0, I = 1 kg m^2).
 /// A method fails on a body when LM stops without meeting a convergence tolerance (50 iterations
-/// reached, or a numerical failure), or, for the three consistent methods, when its final estimate
-/// is not fully physically consistent (possible only for the eigenvalue map, whose m and L are
-/// unconstrained).
+/// reached, or a numerical failure), or, for the three consistent methods, when its final parameters
+/// do not give a consistent body by construction (Parameterization::YieldsConsistentBody: possible
+/// only for the eigenvalue map, whose m and L are unconstrained).
+/// Also counted, not as failures: "near-degenerate" results (consistent by construction, but so thin
+/// that the numerical margins round to zero: the constrained optimum of a body whose linear
+/// least-squares estimate is nonphysical lies on the boundary of the consistent set, which the
+/// iterates approach), and "suboptimal" results (final cost more than 0.1 % above the best cost any
+/// consistent method reached on that body).
 /// Every body has its own random stream seeded from (seed, body index), so results do not depend on
 /// the number of threads.
 #pragma once
@@ -50,12 +55,17 @@ inline constexpr int kStudyMethods = 4;
 /// "linear", "eigenvalue", "exponential", "log_cholesky".
 std::string_view StudyMethodName(int method);
 
+/// Relative cost excess over the best consistent method that counts a result as suboptimal.
+inline constexpr double kSuboptimalRelativeCost = 1e-3;
+
 struct MethodOutcome {
   int iterations = 0;
   StopReason reason = StopReason::kMaxIterations;
   double cost = 0.0;
   Vector10 pi = Vector10::Zero();
-  bool consistent = false;
+  bool consistent = false;       ///< YieldsConsistentBody(final x)
+  bool near_degenerate = false;  ///< consistent by construction, numerical margins <= 1e-12 relative
+  bool suboptimal = false;       ///< cost > (1 + kSuboptimalRelativeCost) x best consistent cost
   bool failed = false;
   double parameter_error = 0.0;  ///< ||pi - pi_true|| / ||pi_true||
   double seconds = 0.0;          ///< wall time of the fit
@@ -77,6 +87,8 @@ struct MethodSummary {
   int max_iteration_stops = 0;
   int numerical_failures = 0;
   int inconsistent_results = 0;
+  int near_degenerate_results = 0;
+  int suboptimal_results = 0;
   long total_iterations = 0;
   double total_seconds = 0.0;
   double seconds_per_iteration = 0.0;
