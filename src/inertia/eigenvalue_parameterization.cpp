@@ -165,4 +165,8 @@ bool EigenvalueParameterization::FromPi(const Vector10& pi, Vector10* phi) const
   return true;
 }
 
+bool EigenvalueParameterization::YieldsConsistentBody(const Vector10& phi) const {
+  return phi.allFinite() && phi[kMass] > 0.0 && (phi.segment<3>(kLx).array() > 0.0).all() && ToPi(phi).allFinite();
+}
+
 }  // namespace inertial

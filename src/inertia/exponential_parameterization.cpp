@@ -113,4 +113,8 @@ bool ExponentialParameterization::FromPi(const Vector10& pi, Vector10* x) const 
   return true;
 }
 
+bool ExponentialParameterization::YieldsConsistentBody(const Vector10& x) const {
+  return x.allFinite() && ToPi(x).allFinite();
+}
+
 }  // namespace inertial

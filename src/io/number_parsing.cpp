@@ -11,7 +11,10 @@ double ParseDouble(std::string_view text, std::string_view what, bool allow_non_
   if (text.empty()) throw InvalidNumber(std::string(what) + ": empty value where a number is required");
   const char* first = text.data();
   const char* last = text.data() + text.size();
-  if (*first == '+') ++first;  // from_chars does not accept a leading '+'
+  if (*first == '+') {  // from_chars does not accept a leading '+'; a sign may not follow it
+    ++first;
+    if (first != last && (*first == '+' || *first == '-')) throw InvalidNumber(quoted + " is not a number");
+  }
   double value = 0.0;
   const std::from_chars_result r = std::from_chars(first, last, value);
   if (r.ec == std::errc::result_out_of_range) throw InvalidNumber(quoted + " is out of the range of a double");
@@ -21,20 +24,34 @@ double ParseDouble(std::string_view text, std::string_view what, bool allow_non_
 }
 
 std::vector<double> ParseNumberList(std::string_view text, std::string_view what) {
+  // Tokens are separated by whitespace and/or one comma; a leading comma or two commas with nothing
+  // between them mean a missing value, which is an error rather than something to skip silently.
   std::vector<double> values;
+  auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
   std::size_t i = 0;
-  auto is_separator = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ','; };
+  bool comma_pending = false;  // a comma seen since the last token
   while (i < text.size()) {
-    while (i < text.size() && is_separator(text[i])) ++i;
-    std::size_t j = i;
-    while (j < text.size() && !is_separator(text[j])) ++j;
-    if (j > i) {
-      values.push_back(
-          ParseDouble(text.substr(i, j - i), std::string(what) + ", value " + std::to_string(values.size() + 1)));
+    if (is_space(text[i])) {
+      ++i;
+      continue;
     }
+    if (text[i] == ',') {
+      if (comma_pending || values.empty()) {
+        throw InvalidNumber(std::string(what) + ", value " + std::to_string(values.size() + 1) +
+                            ": empty value between commas");
+      }
+      comma_pending = true;
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < text.size() && !is_space(text[j]) && text[j] != ',') ++j;
+    values.push_back(
+        ParseDouble(text.substr(i, j - i), std::string(what) + ", value " + std::to_string(values.size() + 1)));
+    comma_pending = false;
     i = j;
   }
-  return values;
+  return values;  // one trailing comma (as a line "1, 2, 3," has) is accepted
 }
 
 }  // namespace inertial

@@ -14,8 +14,7 @@
 namespace inertial {
 namespace {
 
-constexpr int kMaxIterations = 50;
-constexpr int kBins = kMaxIterations / kHistogramBinWidth;  // + 1 "failed" bin
+constexpr int kBins = kHistogramBins;  // + 1 "failed" bin
 
 // Counts per bin (kBins iteration bins, then failures).
 std::vector<int> Histogram(const StudyResult& result, int method) {
@@ -25,7 +24,8 @@ std::vector<int> Histogram(const StudyResult& result, int method) {
     if (m.failed) {
       ++counts[kBins];
     } else {
-      const int bin = std::min(kBins - 1, std::max(0, (m.iterations - 1) / kHistogramBinWidth));
+      const int width = HistogramBinWidth(result.options.solver.max_iterations);
+      const int bin = std::min(kBins - 1, std::max(0, (m.iterations - 1) / width));
       ++counts[bin];
     }
   }
@@ -85,10 +85,13 @@ std::string StudyTable(const StudyResult& result) {
   row("triangle inequality violated (at COM)", std::to_string(s.triangle_violations), "151 (all nonphysical)");
   row("  mean triangle violation [kg m^2]", num(s.mean_triangle_violation), "-0.09");
   row("median parameter error |dpi|/|pi|", num(s.median_linear_ls_parameter_error), "-");
-  os << "\nLevenberg-Marquardt, at most 50 iterations, started from the identity spatial inertia\n";
+  const int cap = o.solver.max_iterations;
+  const int width = HistogramBinWidth(cap);
+  os << "\nLevenberg-Marquardt, at most " << cap << " iterations (paper: 50), started from the identity spatial inertia\n";
   os << "  " << std::left << std::setw(14) << "method" << std::right << std::setw(9) << "failures" << std::setw(11)
      << "median its" << std::setw(14) << "s/iteration" << std::setw(14) << "median |dpi|"
-     << "   iterations histogram (1-5, 6-10, ..., 46-50 | failed)\n";
+     << "   iterations histogram (1-" << width << ", " << width + 1 << "-" << 2 * width << ", ..., "
+     << (kBins - 1) * width + 1 << "-" << kBins * width << " | failed)\n";
   for (int k = 0; k < kStudyMethods; ++k) {
     const MethodSummary& m = s.methods[k];
     os << "  " << std::left << std::setw(14) << StudyMethodName(k) << std::right << std::setw(9) << m.failures
@@ -101,8 +104,13 @@ std::string StudyTable(const StudyResult& result) {
   }
   os << "  paper: 0.02 s per iteration for every method (Matlab lsqnonlin); eigenvalue: wide spread of\n"
         "  iterations, few failures; exponential: fast, far more failures; log-Cholesky: fast, few failures.\n";
-  os << "  failure = stopped at 50 iterations or numerically, or (consistent methods) a final estimate that is\n"
-        "  not fully physically consistent.\n";
+  os << "  failure = stopped at " << cap << " iterations or numerically, or (consistent methods) final parameters\n"
+        "  outside the map's consistent domain (eigenvalue map: m or some L not positive).\n"
+        "  near-degenerate (not failures): consistent by construction, margins below 1e-12 relative:";
+  for (int k = 1; k < kStudyMethods; ++k) os << " " << StudyMethodName(k) << " " << s.methods[k].near_degenerate_results;
+  os << "\n  suboptimal (cost > 0.1 % above the best consistent method on that body):";
+  for (int k = 1; k < kStudyMethods; ++k) os << " " << StudyMethodName(k) << " " << s.methods[k].suboptimal_results;
+  os << "\n";
   os << "\nwall time " << std::fixed << std::setprecision(2) << s.wall_seconds << " s\n";
   return os.str();
 }
@@ -157,7 +165,11 @@ nlohmann::json StudyToJson(const StudyResult& result) {
                                                 {"histogram", Histogram(result, k)}};
   }
   j["methods"] = methods;
-  j["histogram_bins"] = "iterations 1-5, 6-10, ..., 46-50, then failed";
+  {
+    const int width = HistogramBinWidth(o.solver.max_iterations);
+    j["histogram_bins"] = "iterations 1-" + std::to_string(width) + ", ..., " + std::to_string((kBins - 1) * width + 1) +
+                          "-" + std::to_string(kBins * width) + ", then failed";
+  }
   j["paper"] = {{"bodies", PaperStudyFigures::kBodies},
                 {"nonphysical", PaperStudyFigures::kNonphysical},
                 {"negative_mass", PaperStudyFigures::kNegativeMass},
@@ -190,7 +202,8 @@ void WriteStudyReport(const StudyResult& result, const std::string& directory) {
   std::array<std::vector<int>, kStudyMethods> h;
   for (int k = 0; k < kStudyMethods; ++k) h[k] = Histogram(result, k);
   for (int i = 0; i <= kBins; ++i) {
-    if (i < kBins) data << "\"" << i * kHistogramBinWidth + 1 << "-" << (i + 1) * kHistogramBinWidth << "\"";
+    const int width = HistogramBinWidth(result.options.solver.max_iterations);
+    if (i < kBins) data << "\"" << i * width + 1 << "-" << (i + 1) * width << "\"";
     else data << "\"failed\"";
     for (int k = 0; k < kStudyMethods; ++k) data << " " << h[k][i];
     data << "\n";
@@ -202,7 +215,7 @@ void WriteStudyReport(const StudyResult& result, const std::string& directory) {
      << "set terminal pngcairo size 1400,900 font 'sans,11'\n"
      << "set output 'fig1.png'\n"
      << "set multiplot layout 2,2 title 'Iterations to converge, " << result.summary.bodies
-     << " bodies (Levenberg-Marquardt, at most 50 iterations)'\n"
+     << " bodies (Levenberg-Marquardt, at most " << result.options.solver.max_iterations << " iterations)'\n"
      << "set style data histograms\nset style fill solid 0.8 border -1\nset boxwidth 0.8\n"
      << "set xtics rotate by -45\nset ylabel 'bodies'\nset xlabel 'iterations'\nset grid ytics\nunset key\n";
   const char* titles[kStudyMethods] = {"linear (pi)", "eigenvalue (Section III)", "exponential (Section IV-A)",

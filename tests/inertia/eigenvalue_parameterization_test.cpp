@@ -4,8 +4,11 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
@@ -36,6 +39,15 @@ Matrix3 GallegoYezziDerivative(const Vector3& beta, int k) {
   const Matrix3 R = AngleAxisRotation(beta);
   const Vector3 e = Vector3::Unit(k);
   return (beta[k] * Skew(beta) + Skew(beta.cross((Matrix3::Identity() - R) * e))) * R / beta.squaredNorm();
+}
+
+// The left Jacobian of SO(3) in the form sin t/t 1 + (1 - sin t/t) a a^T + (1 - cos t)/t S(a),
+// t = |beta|, a = beta/t (Barfoot 2017); beta != 0.
+Matrix3 LeftJacobian(const Vector3& beta) {
+  const double t = beta.norm();
+  const Vector3 a = beta / t;
+  return std::sin(t) / t * Matrix3::Identity() + (1.0 - std::sin(t) / t) * a * a.transpose() +
+         (1.0 - std::cos(t)) / t * Skew(a);
 }
 
 Vector10 Phi(double m, const Vector3& c, const Vector3& beta, const Vector3& L) {
@@ -86,7 +98,8 @@ TEST(EigenvalueRotation, ExpMatchesAngleAxis) {
   Rng rng(101);
   for (int n = 0; n < 2000; ++n) {
     const Vector3 beta = rng.Uniform(0.0, 3.0 * kPi) * RandomDirection(rng);
-    EXPECT_LT(RelativeError(RotationFromExponentialCoordinates(beta), AngleAxisRotation(beta)), 1e-14) << beta.transpose();
+    EXPECT_LT(RelativeError(RotationFromExponentialCoordinates(beta), AngleAxisRotation(beta)), 1e-14)
+        << beta.transpose();
   }
   for (double angle : {0.0, 1e-12, 1e-8, 1e-4, 1e-3 * (1.0 - 1e-12), 1e-3, 1e-3 * (1.0 + 1e-12), 1e-2, kPi}) {
     const Vector3 beta = angle * RandomDirection(rng);
@@ -140,7 +153,8 @@ TEST(EigenvalueRotation, LogInvertsExp) {
   Rng rng(103);
   for (int n = 0; n < 5000; ++n) {
     const Vector3 beta = rng.Uniform(0.0, kPi * (1.0 - 1e-9)) * RandomDirection(rng);
-    EXPECT_LT(RelativeError(ExponentialCoordinatesOfRotation(AngleAxisRotation(beta)), beta), 1e-12) << beta.transpose();
+    EXPECT_LT(RelativeError(ExponentialCoordinatesOfRotation(AngleAxisRotation(beta)), beta), 1e-12)
+        << beta.transpose();
   }
   // Hard angles: 0, tiny, the pi/2 branch switch, and close to pi (where sin t -> 0).
   for (double angle : {0.0, 1e-300, 1e-12, 1e-6, kPi / 2.0 - 1e-12, kPi / 2.0, kPi / 2.0 + 1e-12, kPi - 1e-3,
@@ -287,15 +301,15 @@ TEST(EigenvalueParameterization, FromPiRefusesInconsistentBodiesAndLeavesPhiUnto
   Vector10 zero_mass = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
   zero_mass[pi_index::kMass] = 0.0;
   refused.push_back(zero_mass);
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector());   // plate, Lz = 0
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());   // rod
+  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector());    // plate, Lz = 0
+  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());    // rod
   refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, -0.05)).vector());  // triangle violated
   for (int n = 0; n < 500; ++n) {  // plates in general position (L = 0 only up to rounding)
     Pose pose;
     pose.R_BC = rng.Rotation();
     pose.p_BoCo_B = rng.UniformVector<3>(-2.0, 2.0);
-    refused.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0), Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0),
-                                            pose)
+    refused.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0),
+                                            Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0), pose)
                           .vector());
   }
   Vector10 nan = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
@@ -308,6 +322,39 @@ TEST(EigenvalueParameterization, FromPiRefusesInconsistentBodiesAndLeavesPhiUnto
     EXPECT_FALSE(param.FromPi(pi, &phi)) << pi.transpose();
     EXPECT_EQ(phi, sentinel);
   }
+}
+
+// Consistent by construction iff m > 0 and L > 0; pi's numerical check agrees away from the
+// boundary.
+TEST(EigenvalueParameterization, YieldsConsistentBodyIffMassAndSecondMomentsArePositive) {
+  const EigenvalueParameterization param;
+  Rng rng(113);
+  int yes = 0, no = 0;
+  for (int n = 0; n < 4000; ++n) {
+    Vector10 phi = Phi(rng.Uniform(-1.0, 3.0), rng.UniformVector<3>(-1.0, 1.0), rng.UniformVector<3>(-4.0, 4.0),
+                       rng.UniformVector<3>(-0.5, 1.0));
+    // Keep away from the boundary m = 0, L = 0, where the numerical check is decided by rounding.
+    for (int i : {kMass, kLx, kLy, kLz}) {
+      if (std::abs(phi[i]) < 0.05) phi[i] = 0.05;
+    }
+    const bool positive = phi[kMass] > 0.0 && phi[kLx] > 0.0 && phi[kLy] > 0.0 && phi[kLz] > 0.0;
+    EXPECT_EQ(param.YieldsConsistentBody(phi), positive) << phi.transpose();
+    EXPECT_EQ(IsPhysicallyConsistent(InertialParams::FromVector(param.ToPi(phi))), positive) << phi.transpose();
+    (positive ? yes : no) += 1;
+  }
+  EXPECT_GT(yes, 500);
+  EXPECT_GT(no, 500);
+  Vector10 phi = Phi(1.0, Vector3(0.1, 0.2, 0.3), Vector3(0.3, -0.2, 0.1), Vector3(0.1, 0.2, 0.3));
+  EXPECT_TRUE(param.YieldsConsistentBody(phi));
+  phi[kLy] = 0.0;  // a plate
+  EXPECT_FALSE(param.YieldsConsistentBody(phi));
+  phi[kLy] = 0.2;
+  phi[kBeta2] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(param.YieldsConsistentBody(phi));
+  phi[kBeta2] = 0.0;
+  phi[kMass] = 1e300;
+  phi[kCx] = 1e300;  // m |c|^2 overflows
+  EXPECT_FALSE(param.YieldsConsistentBody(phi));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -356,20 +403,13 @@ TEST(EigenvalueSingularity, JacobianIsSingularWhenTwoSecondMomentsAreEqual) {
       Matrix10 Jeq;
       param.ToPi(Phi(m, c, beta, Leq), &Jeq);
       EXPECT_LT(std::abs(Jeq.determinant()) / ColumnNormProduct(Jeq), 1e-10) << Leq.transpose();
-      // The null direction: rotating about the symmetry axis (the principal axis k other than i,
-      // j) leaves pi unchanged. R^T J_l dbeta = e_k, i.e. dbeta = J_l^{-1} R e_k; with
-      // dR/dbeta = S(J_l .) R that is dbeta solving S(J_l dbeta) R = R S(e_k), i.e. J_l dbeta = R e_k.
+      // The null direction: rotating the body about its symmetry axis (the principal axis k other
+      // than i, j), R -> R exp(eps S(e_k)) = exp(eps S(R e_k)) R, leaves pi unchanged. With
+      // dR = S(J_l dbeta) R that is the dbeta with J_l(beta) dbeta = R e_k.
       const int k = 3 - i - j;
-      std::array<Matrix3, 3> dR;
-      const Matrix3 R = RotationFromExponentialCoordinates(beta, &dR);
-      // Recover J_l from dR_k R^T = S(J_l e_k).
-      Matrix3 J_l;
-      for (int q = 0; q < 3; ++q) {
-        const Matrix3 W = dR[q] * R.transpose();
-        J_l.col(q) = Vector3(W(2, 1), W(0, 2), W(1, 0));
-      }
+      const Matrix3 R = AngleAxisRotation(beta);
       Vector10 direction = Vector10::Zero();
-      direction.segment<3>(kBeta1) = J_l.colPivHouseholderQr().solve(R.col(k));
+      direction.segment<3>(kBeta1) = LeftJacobian(beta).colPivHouseholderQr().solve(R.col(k));
       EXPECT_LT((Jeq * direction).norm() / (Jeq.norm() * direction.norm()), 1e-13) << Leq.transpose();
       // Not a null direction for the distinct L.
       EXPECT_GT((J * direction).norm() / (J.norm() * direction.norm()), 1e-4) << L.transpose();
@@ -394,7 +434,8 @@ TEST(EigenvalueSingularity, DeterminantIsProportionalToSecondMomentDifferences) 
       param.ToPi(Phi(m, c, beta, Vector3(Lx, Ly, Lz)), &J);
       ratios.push_back(J.determinant() / ((Lx - Ly) * (Ly - Lz) * (Lx - Lz)));
     }
-    // The limit: -2 m^3 det J_l(beta) (Lx = Ly); with distinct Lz the ratio is that times 1.
+    // The ratio neither blows up nor vanishes as delta -> 0: it stays at -2 m^3 det J_l(beta), with
+    // det J_l = 2 (1 - cos t) / t^2 (the header's derivation), for every delta.
     const double t = beta.norm();
     const double limit = -2.0 * m * m * m * 2.0 * (1.0 - std::cos(t)) / (t * t);
     for (double r : ratios) EXPECT_NEAR(r / limit, 1.0, 1e-6) << r;

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
 
@@ -124,8 +126,9 @@ TEST(ExponentialMap, SymmetricExpMatchesPadeReference) {
   }
   EXPECT_LT(RelativeError(SymmetricMatrixExp(Matrix4::Zero()), Matrix4::Identity()), 1e-15);
   const Matrix4 D = Vector4(0.3, 0.3, 0.3, -0.7).asDiagonal();
-  EXPECT_LT(RelativeError(SymmetricMatrixExp(D), Matrix4(Vector4(0.3, 0.3, 0.3, -0.7).array().exp().matrix().asDiagonal())),
-            1e-15);
+  EXPECT_LT(
+      RelativeError(SymmetricMatrixExp(D), Matrix4(Vector4(0.3, 0.3, 0.3, -0.7).array().exp().matrix().asDiagonal())),
+      1e-15);
 }
 
 TEST(ExponentialMap, LogInvertsExp) {
@@ -176,8 +179,9 @@ TEST(ExponentialParameterization, SlotsHoldTheEntriesOfQInPisOrder) {
     x.setZero();
     x[k] = t;
     const Matrix4 E = SlotUnit(k);
-    const Matrix4 K = kSlotRow[k] == kSlotCol[k] ? Matrix4(Matrix4::Identity() + std::expm1(t) * E)
-                                                  : Matrix4(Matrix4::Identity() + (std::cosh(t) - 1.0) * E * E + std::sinh(t) * E);
+    const Matrix4 K = kSlotRow[k] == kSlotCol[k]
+                          ? Matrix4(Matrix4::Identity() + std::expm1(t) * E)
+                          : Matrix4(Matrix4::Identity() + (std::cosh(t) - 1.0) * E * E + std::sinh(t) * E);
     EXPECT_LT(RelativeError(param.ToPi(x), PiFromPseudoInertia(K)), 1e-14) << "slot " << k;
     EXPECT_EQ(SymmetricFromExponentialParameters(x), Matrix4(t * E)) << "slot " << k;
     EXPECT_EQ(ExponentialParametersFromSymmetric(t * E), x) << "slot " << k;
@@ -242,6 +246,24 @@ TEST(ExponentialParameterization, EveryXGivesAFullyConsistentBody) {
   }
 }
 
+// Consistent by construction for every finite x, also where the numerical check cannot tell.
+TEST(ExponentialParameterization, YieldsConsistentBodyForEveryFiniteX) {
+  const ExponentialParameterization param;
+  Rng rng(211);
+  for (int n = 0; n < 1000; ++n) EXPECT_TRUE(param.YieldsConsistentBody(rng.UniformVector<10>(-3.0, 3.0)));
+  // A body 1e-17 thin along z: consistent by construction, margins below CheckConsistency's.
+  Vector10 thin = Vector10::Zero();
+  thin[kQ22] = -40.0;
+  EXPECT_TRUE(param.YieldsConsistentBody(thin));
+  EXPECT_FALSE(IsPhysicallyConsistent(InertialParams::FromVector(param.ToPi(thin))));
+  Vector10 bad = Vector10::Zero();
+  bad[kQ12] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(param.YieldsConsistentBody(bad));
+  bad[kQ12] = 0.0;
+  bad[kQ33] = 800.0;  // e^800 overflows
+  EXPECT_FALSE(param.YieldsConsistentBody(bad));
+}
+
 TEST(ExponentialParameterization, RoundTripPiXPi) {
   const ExponentialParameterization param;
   Rng rng(207);
@@ -297,15 +319,15 @@ TEST(ExponentialParameterization, FromPiRefusesInconsistentBodiesAndLeavesXUntou
   Vector10 zero_mass = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
   zero_mass[pi_index::kMass] = 0.0;
   refused.push_back(zero_mass);
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector());   // plate, Lz = 0
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());   // rod
+  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector());    // plate, Lz = 0
+  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());    // rod
   refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, -0.05)).vector());  // triangle violated
   for (int n = 0; n < 500; ++n) {  // plates in general position (L = 0 only up to rounding)
     Pose pose;
     pose.R_BC = rng.Rotation();
     pose.p_BoCo_B = rng.UniformVector<3>(-2.0, 2.0);
-    refused.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0), Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0),
-                                            pose)
+    refused.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0),
+                                            Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0), pose)
                           .vector());
   }
   Vector10 nan = SolidBox(1.0, 0.1, 0.2, 0.3).vector();

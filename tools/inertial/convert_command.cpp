@@ -130,6 +130,7 @@ int RunConvertCommand(const ConvertCommand& c) {
     if (c.to == "pi") out = body.vector();
     else if (c.to == "theta") out = lc.ThetaOf(body);
     else if (c.to == "mci") {
+      if (!(body.mass() != 0.0)) throw InconsistentInput("--to mci: the mass is zero, so there is no center of mass");
       const Matrix3 I = body.rotational_inertia_about_com();
       Vector10 m;
       m << body.mass(), body.com(), I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(1, 2), I(0, 2);

@@ -92,6 +92,10 @@ class EigenvalueParameterization final : public Parameterization {
   /// times its scale max(|L|) + m |c|^2 (a point, rod or plate up to rounding) counts as not
   /// positive.
   bool FromPi(const Vector10& pi, Vector10* phi) const override;
+
+  /// phi gives a fully consistent body iff it is finite with m > 0 and every L > 0 (Theorem II.1
+  /// with eq. 5; ToPi itself does not constrain them), and pi(phi) does not overflow.
+  bool YieldsConsistentBody(const Vector10& phi) const override;
 };
 
 }  // namespace inertial

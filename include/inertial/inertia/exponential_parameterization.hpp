@@ -89,6 +89,11 @@ class ExponentialParameterization final : public Parameterization {
   /// definite; a J whose smallest eigenvalue is below 1e-12 times its largest (a point, rod or
   /// plate up to rounding) counts as not positive definite.
   bool FromPi(const Vector10& pi, Vector10* x) const override;
+
+  /// Every finite x gives a fully consistent body (exp(Q) is positive definite), even where its
+  /// numerical margins round to zero; false only if x is not finite or exp(Q) overflows (an
+  /// eigenvalue of Q above ~709).
+  bool YieldsConsistentBody(const Vector10& x) const override;
 };
 
 }  // namespace inertial

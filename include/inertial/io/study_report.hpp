@@ -3,6 +3,7 @@
 /// the JSON document, and the --report directory with a Fig. 1-like histogram drawn by gnuplot.
 #pragma once
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -22,8 +23,10 @@ struct PaperStudyFigures {
   static constexpr double kSecondsPerIteration = 0.02;          // Matlab lsqnonlin, all methods
 };
 
-/// Iteration histogram bins of the figure and table: 1-5, 6-10, ..., 46-50 and "failed".
-inline constexpr int kHistogramBinWidth = 5;
+/// The iteration histogram of the figure and table has kHistogramBins bins of equal width covering
+/// 1..max_iterations (1-5, 6-10, ..., 46-50 for the paper's cap of 50), then a "failed" bin.
+inline constexpr int kHistogramBins = 10;
+inline int HistogramBinWidth(int max_iterations) { return std::max(1, (max_iterations + kHistogramBins - 1) / kHistogramBins); }
 
 /// Plain-text table: this run beside the paper.
 std::string StudyTable(const StudyResult& result);
