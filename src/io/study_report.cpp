@@ -67,9 +67,9 @@ std::string StudyTable(const StudyResult& result) {
      << o.sample_interval << " s, velocity noise U[" << o.noise_bias - 0.5 * o.noise_width << ", "
      << o.noise_bias + 0.5 * o.noise_width << "], Dormand-Prince 5(4) rtol " << o.integrator.relative_tolerance
      << ", " << s.integrator_steps << " integrator steps\n\n";
-  os << "Linear least squares on pi                  this run            paper (of 1000)\n";
+  os << "Linear least squares on pi                      this run            paper (of 1000)\n";
   auto row = [&](const std::string& name, const std::string& ours, const std::string& paper) {
-    os << "  " << std::left << std::setw(40) << name << std::setw(20) << ours << paper << "\n";
+    os << "  " << std::left << std::setw(44) << name << std::setw(20) << ours << paper << "\n";
   };
   auto count = [&](int n) { return std::to_string(n) + " (" + Percent(n, s.bodies) + ")"; };
   auto num = [](double v) {

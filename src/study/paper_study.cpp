@@ -13,7 +13,7 @@
 
 #include "inertial/estimation/linear_least_squares.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
-#include "inertial/inertia/eigenvalue_parameterization.hpp"
+#include "inertial/inertia/positive_eigenvalue_parameterization.hpp"
 #include "inertial/inertia/exponential_parameterization.hpp"
 #include "inertial/inertia/linear_parameterization.hpp"
 #include "inertial/inertia/log_cholesky.hpp"
@@ -110,7 +110,7 @@ StudyResult RunStudy(const StudyOptions& options) {
   result.bodies.resize(options.bodies);
 
   const LinearParameterization linear;
-  const EigenvalueParameterization eigenvalue;
+  const PositiveEigenvalueParameterization eigenvalue;  // m, L > 0 as Section VI requires
   const ExponentialParameterization exponential;
   const LogCholeskyParameterization log_cholesky;
   const std::array<const Parameterization*, kStudyMethods> parameterizations = {&linear, &eigenvalue, &exponential,

@@ -154,6 +154,19 @@ TEST(LogCholesky, EveryThetaGivesAFullyConsistentBody) {
   }
 }
 
+TEST(LogCholesky, YieldsConsistentBodyForEveryFiniteThetaThatDoesNotOverflow) {
+  const LogCholeskyParameterization param;
+  Vector10 thin = Vector10::Zero();
+  thin[kD3] = -40.0;  // a body e^-40 thin: consistent, though its numerical margins round to zero
+  EXPECT_TRUE(param.YieldsConsistentBody(thin));
+  EXPECT_FALSE(CheckConsistency(InertialParams::FromVector(param.ToPi(thin))).fully_consistent());
+  Vector10 huge = Vector10::Zero();
+  huge[kAlpha] = 400.0;  // e^800 overflows
+  EXPECT_FALSE(param.YieldsConsistentBody(huge));
+  huge[kAlpha] = std::nan("");
+  EXPECT_FALSE(param.YieldsConsistentBody(huge));
+}
+
 TEST(LogCholesky, InverseRefusesInconsistentBodies) {
   const LogCholeskyParameterization param;
   Vector10 theta = Vector10::Constant(42.0);

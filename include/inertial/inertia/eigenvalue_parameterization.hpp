@@ -27,14 +27,15 @@
 /// the pseudo-inertia J = [[Sigma_Bcm_B + m c c^T, m c], [m c^T, m]] with determinant -2 (taking
 /// the J entries in pi's slot order); (m, c, Sigma_Bcm_B) -> (m, h, Sigma_Bo_B) is block triangular
 /// with determinant m^3; and dSigma_Bcm_B = R (dLambda + S(w) Lambda - Lambda S(w)) R^T, with
-/// Lambda = diag(L) and w = R^T J_l(beta) dbeta, whose off-diagonal entries are
-/// w_i (L_j - L_k): the factors (Lx - Ly)(Ly - Lz)(Lx - Lz) times det(J_l) = 2 (1 - cos|beta|)/|beta|^2
-/// (X -> R X R^T on symmetric matrices has determinant det(R)^4 = 1).
+/// Lambda = diag(L) and w = R^T J_l(beta) dbeta, whose off-diagonal entries (01, 12, 02) are
+/// w_z (Lx - Ly), w_x (Ly - Lz), w_y (Lz - Lx): the factors (Lx - Ly)(Ly - Lz)(Lx - Lz) times
+/// det(J_l) = 2 (1 - cos|beta|)/|beta|^2 (X -> R X R^T on symmetric matrices has determinant
+/// det(R)^4 = 1).
 ///
 /// Rotation conventions: R = exp(S(beta)) maps principal-axes coordinates to B (R x~ = x, Section
 /// II). Its derivative is dR/dbeta_k = S(J_l(beta) e_k) R with the left Jacobian of SO(3)
 ///   J_l(beta) = 1 + (1 - cos t)/t^2 S(beta) + (t - sin t)/t^3 S(beta)^2,   t = |beta|
-/// (e.g. Barfoot, "State Estimation for Robotics", 2017, Section 7.1; equal to the form of Gallego
+/// (e.g. Barfoot, "State Estimation for Robotics", 2017; equal to the form of Gallego
 /// & Yezzi, "A compact formula for the derivative of a 3-D rotation in exponential coordinates",
 /// JMIV 2015), evaluated with Taylor series of its coefficients for small t, so that it is exact
 /// (to rounding) everywhere including beta = 0.

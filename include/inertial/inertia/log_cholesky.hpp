@@ -63,8 +63,9 @@ class LogCholeskyParameterization final : public Parameterization {
   std::string_view name() const override { return "log_cholesky"; }
   Vector10 ToPi(const Vector10& theta, Matrix10* J_pi_theta = nullptr) const override;
   bool FromPi(const Vector10& pi, Vector10* theta) const override;
-  /// Every finite theta gives a fully consistent body (Section IV-B).
-  bool YieldsConsistentBody(const Vector10& theta) const override { return theta.allFinite(); }
+  /// Every finite theta gives a fully consistent body (Section IV-B), unless pi overflows
+  /// (e^{2 alpha} beyond the range of a double).
+  bool YieldsConsistentBody(const Vector10& theta) const override { return theta.allFinite() && ToPi(theta).allFinite(); }
 
   /// The inverse at a boundary: theta of a body.
   /// @throws std::invalid_argument with the consistency report's reason if `body` is not fully
