@@ -1,6 +1,8 @@
 #include "inertial/inertia/inertial_params.hpp"
 
 #include <sstream>
+
+#include "inertial/inertia/assert.hpp"
 #include <stdexcept>
 
 namespace inertial {
@@ -72,6 +74,7 @@ InertialParams InertialParams::FromPseudoInertia(const Matrix4& J, double tolera
 Matrix3 InertialParams::rotational_inertia_about_origin() const { return InertiaFromPi(pi_); }
 
 Matrix3 InertialParams::rotational_inertia_about_com() const {
+  INERTIAL_ASSERT(mass() != 0.0);
   const Vector3 c = com();
   return InertiaFromPi(pi_) - mass() * (c.squaredNorm() * Matrix3::Identity() - c * c.transpose());
 }

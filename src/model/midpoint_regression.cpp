@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "inertial/inertia/assert.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 
 namespace inertial {
@@ -11,6 +12,7 @@ namespace inertial {
 void MidpointRegressorPair(const TwistWrenchSample& s0, const TwistWrenchSample& s1, const Vector3& g_B,
                            Matrix6x10* Y, Vector6* w) {
   const double dt = s1.t - s0.t;
+  INERTIAL_ASSERT(dt > 0.0);
   const Vector6 xi_dot = (s1.twist - s0.twist) / dt;
   const Vector6 xi_bar = 0.5 * (s1.twist + s0.twist);
   *Y = RigidBodyRegressor(xi_bar, xi_dot, g_B);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "inertial/inertia/assert.hpp"
 #include "inertial/model/spatial_algebra.hpp"
 
 namespace inertial {
@@ -22,6 +23,7 @@ SimulationResult SimulateRigidBody(const InertialParams& body, const Vector6& xi
   }
   const Matrix6 M = body.spatial_inertia();
   const Eigen::LLT<Matrix6> M_llt(M);
+  INERTIAL_ASSERT(M_llt.info() == Eigen::Success);  // precondition: a consistent body
   auto f = [&](double t, const Vector6& xi) -> Vector6 {
     return M_llt.solve(wrench(t) - ForceCross(xi) * (M * xi));
   };

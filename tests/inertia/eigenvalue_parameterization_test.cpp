@@ -14,6 +14,7 @@
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/log_cholesky.hpp"
+#include "inconsistent_bodies.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -293,31 +294,7 @@ TEST(EigenvalueParameterization, FromPiRefusesInconsistentBodiesAndLeavesPhiUnto
   const EigenvalueParameterization param;
   const Vector10 sentinel = Vector10::Constant(42.0);
   Vector10 phi = sentinel;
-  Rng rng(108);
-  std::vector<Vector10> refused;
-  Vector10 negative_mass = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
-  negative_mass[pi_index::kMass] = -1.0;
-  refused.push_back(negative_mass);
-  Vector10 zero_mass = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
-  zero_mass[pi_index::kMass] = 0.0;
-  refused.push_back(zero_mass);
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, 0.0)).vector());    // plate, Lz = 0
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());    // rod
-  refused.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, -0.05)).vector());  // triangle violated
-  for (int n = 0; n < 500; ++n) {  // plates in general position (L = 0 only up to rounding)
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-2.0, 2.0);
-    refused.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0),
-                                            Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0), pose)
-                          .vector());
-  }
-  Vector10 nan = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
-  nan[pi_index::kIxy] = std::numeric_limits<double>::quiet_NaN();
-  refused.push_back(nan);
-  Vector10 inf = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
-  inf[pi_index::kHx] = std::numeric_limits<double>::infinity();
-  refused.push_back(inf);
+  const std::vector<Vector10> refused = testing::InconsistentBodies(108);
   for (const Vector10& pi : refused) {
     EXPECT_FALSE(param.FromPi(pi, &phi)) << pi.transpose();
     EXPECT_EQ(phi, sentinel);

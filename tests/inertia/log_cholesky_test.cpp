@@ -8,6 +8,7 @@
 
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "inconsistent_bodies.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -187,6 +188,11 @@ TEST(LogCholesky, InverseRefusesInconsistentBodies) {
   Vector10 nan = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
   nan[pi_index::kIxy] = std::nan("");
   EXPECT_FALSE(param.FromPi(nan, &theta));
+  // The shared set: ThetaOf refuses every one (FromPi alone has no tolerance, so a plate that is
+  // flat only up to rounding may factor; ThetaOf applies CheckConsistency first).
+  for (const Vector10& pi : testing::InconsistentBodies(21)) {
+    EXPECT_THROW(param.ThetaOf(InertialParams::FromVector(pi)), std::invalid_argument) << pi.transpose();
+  }
 }
 
 // Eq. (11): theta = 0 is the reference body; t translates it, alpha scales its density, d stretches it.

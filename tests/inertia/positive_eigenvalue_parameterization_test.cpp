@@ -7,6 +7,7 @@
 
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "inconsistent_bodies.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -56,10 +57,10 @@ TEST(PositiveEigenvalue, RoundTripAndRefusal) {
     EXPECT_LT(RelativeError(p.ToPi(x), body.vector()), 1e-10);
   }
   Vector10 x = Vector10::Constant(7.0);
-  Vector10 negative = SolidBox(1.0, 0.1, 0.2, 0.3).vector();
-  negative[pi_index::kMass] = -1.0;
-  EXPECT_FALSE(p.FromPi(negative, &x));
-  EXPECT_EQ(x, Vector10::Constant(7.0));
+  for (const Vector10& pi : testing::InconsistentBodies(4)) {
+    EXPECT_FALSE(p.FromPi(pi, &x)) << pi.transpose();
+    EXPECT_EQ(x, Vector10::Constant(7.0));
+  }
 }
 
 }  // namespace
