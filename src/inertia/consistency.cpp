@@ -56,13 +56,14 @@ ConsistencyReport CheckConsistency(const InertialParams& body, double relative_t
     if (!r.inertia_positive_definite_com) {
       std::ostringstream os;
       os << "rotational inertia at the COM not positive definite: smallest principal moment " << D[0]
-         << " kg m^2";
+         << " kg m^2 is not above " << relative_tolerance << " x the largest (" << D[2] << " kg m^2)";
       add(os.str());
     }
     if (!r.triangle_inequalities) {
       std::ostringstream os;
       os << "triangle inequality (eq. 4) violated at the COM: smallest of Dy+Dz-Dx, Dx+Dz-Dy, Dx+Dy-Dz is "
-         << r.min_triangle_margin << " kg m^2 (principal moments " << D[0] << ", " << D[1] << ", " << D[2]
+         << r.min_triangle_margin << " kg m^2, not above " << relative_tolerance
+         << " x the largest principal moment (principal moments " << D[0] << ", " << D[1] << ", " << D[2]
          << " kg m^2)";
       add(os.str());
     }
@@ -77,7 +78,12 @@ ConsistencyReport CheckConsistency(const InertialParams& body, double relative_t
   r.pseudo_inertia_positive_definite = r.min_pseudo_inertia_eigenvalue > relative_tolerance * J_scale;
   if (!r.pseudo_inertia_positive_definite) {
     std::ostringstream os;
-    os << "pseudo-inertia J not positive definite: smallest eigenvalue " << r.min_pseudo_inertia_eigenvalue;
+    if (!eig_J.eigenvalues().allFinite()) {
+      os << "pseudo-inertia J: eigenvalues overflow (entries too large for double precision)";
+    } else {
+      os << "pseudo-inertia J not positive definite: smallest eigenvalue " << r.min_pseudo_inertia_eigenvalue
+         << " is not above " << relative_tolerance << " x the largest (" << eig_J.eigenvalues()[3] << ")";
+    }
     add(os.str());
   }
   r.reason = why.str();

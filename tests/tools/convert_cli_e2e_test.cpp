@@ -661,6 +661,46 @@ TEST_F(StudyCli, ReportDirectoryThatCannotBeCreatedIsAnIoError) {
   fs::remove(file, ec);
   EXPECT_EQ(r.exit_code, kExitIoError) << Describe(r);
   EXPECT_TRUE(Contains(r.err, dir)) << Describe(r);
+  EXPECT_TRUE(r.out.empty()) << "the directory is checked before the study runs: " << Describe(r);
+}
+
+TEST_F(StudyCli, SeedMustBeAnIntegerInRange) {
+  for (const char* bad : {"-1", "99999999999999999999999", "1.5", "abc", ""}) {
+    const CliRun r = RunCli({"study", "--bodies", "1", "--seed", bad});
+    EXPECT_EQ(r.exit_code, kExitInvalidValue) << bad << " " << Describe(r);
+    EXPECT_TRUE(Contains(r.err, "--seed")) << Describe(r);
+    EXPECT_TRUE(r.out.empty()) << Describe(r);
+  }
+  const CliRun ok = RunCli({"study", "--bodies", "2", "--seed", "18446744073709551615", "--json"});
+  ASSERT_EQ(ok.exit_code, kExitOk) << Describe(ok);
+  EXPECT_EQ(ParseJson(ok)["seed"].get<std::uint64_t>(), 18446744073709551615ull);
+}
+
+// A finite theta is a consistent body by construction, however thin: convert never refuses it, even
+// where the numerical margins fall below the checker's tolerance (it says so on stderr).
+TEST_F(ConvertCli, ThinButFiniteThetaIsAccepted) {
+  Vector10 theta;
+  theta << -0.206, -3.74, 4.74, -4.71, 2.84, -0.366, -0.948, -4.45, 2.28, 4.25;
+  ASSERT_FALSE(CheckConsistency(InertialParams::FromVector(PiFromLogCholesky(theta))).fully_consistent());
+  const CliRun r = RunCli(Concat({"convert", "--from", "theta", "--to", "pi", "--json", "--"}, Args(theta)));
+  ASSERT_EQ(r.exit_code, kExitOk) << Describe(r);
+  EXPECT_TRUE(Near(JsonVector10(ParseJson(r), "pi"), PiFromLogCholesky(theta), 1e-15)) << Describe(r);
+  EXPECT_TRUE(ParseJson(r)["consistency"]["fully_consistent"].get<bool>());
+  EXPECT_FALSE(ParseJson(r)["consistency"]["margins_above_tolerance"].get<bool>());
+  // Overflow is named as such.
+  const CliRun huge = RunCli({"convert", "--from", "theta", "--to", "pi", "400", "0", "0", "0", "0", "0", "0", "0", "0", "0"});
+  EXPECT_EQ(huge.exit_code, kExitInconsistentBody) << Describe(huge);
+  EXPECT_TRUE(Contains(huge.err, "range of double")) << Describe(huge);
+}
+
+TEST_F(ConvertCli, ReferenceWithoutThetaIsAUsageErrorAndNoNegativeZero) {
+  const CliRun r = RunCli({"convert", "--from", "pi", "--to", "mci", "--reference", "1 0 0 0 1 1 1 0 0 0", "1", "0", "0",
+                           "0", "1", "1", "1", "0", "0", "0"});
+  EXPECT_EQ(r.exit_code, kExitUsage) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "--reference")) << Describe(r);
+  const CliRun spatial = RunCli({"convert", "--from", "pi", "--to", "spatial", "1", "0", "0", "0", "1", "1", "1", "0", "0", "0"});
+  ASSERT_EQ(spatial.exit_code, kExitOk) << Describe(spatial);
+  EXPECT_FALSE(Contains(spatial.out, "-0")) << Describe(spatial);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@ namespace inertial::cli {
 
 struct StudyCommand {
   StudyOptions options;
+  std::string seed = "1";  ///< parsed strictly into options.seed (CLI11 would wrap "-1" silently)
   bool json = false;
   std::string report_dir;
 };

@@ -119,16 +119,33 @@ int RunConvertCommand(const ConvertCommand& c) {
       lc = LogCholeskyParameterization(reference);
     }
 
+    if (!c.reference.empty() && c.from != "theta" && c.to != "theta") {
+      throw UsageError("--reference applies to theta only, and neither --from nor --to is theta");
+    }
     const InertialParams body = InertialParams::FromVector(ToPi(c.from, v, lc));
+    if (c.from == "theta" && !body.AllFinite()) {
+      throw InconsistentInput("theta gives a body beyond the range of double precision (e^{2 alpha} or a product overflows)");
+    }
     const ConsistencyReport report = CheckConsistency(body);
-    if (!report.fully_consistent() && (!c.allow_inconsistent || c.to == "theta")) {
+    // Every finite theta is a consistent body by construction (Section IV-B), even where it is so thin
+    // that its numerical margins fall below the checker's tolerance: never refuse it.
+    const bool consistent = report.fully_consistent() || (c.from == "theta" && lc.YieldsConsistentBody(Eigen::Map<const Vector10>(v.data())));
+    if (!consistent && (!c.allow_inconsistent || c.to == "theta")) {
       throw InconsistentInput("input (" + c.from + ") is not a fully physically consistent body: " + report.reason);
     }
 
     // Output.
     Eigen::MatrixXd out;
     if (c.to == "pi") out = body.vector();
-    else if (c.to == "theta") out = lc.ThetaOf(body);
+    else if (c.to == "theta") {
+      Vector10 theta;
+      if (c.from == "theta" && !c.reference.empty()) {
+        theta = Eigen::Map<const Vector10>(v.data());  // identity conversion
+      } else if (!lc.FromPi(body.vector(), &theta)) {
+        throw InconsistentInput("the body has no log-Cholesky parameters (its pseudo-inertia has no Cholesky factor)");
+      }
+      out = theta;
+    }
     else if (c.to == "mci") {
       if (!(body.mass() != 0.0)) throw InconsistentInput("--to mci: the mass is zero, so there is no center of mass");
       const Matrix3 I = body.rotational_inertia_about_com();
@@ -141,7 +158,8 @@ int RunConvertCommand(const ConvertCommand& c) {
     if (c.json) {
       nlohmann::json j;
       j[c.to] = out.cols() == 1 ? nlohmann::json(Flatten(out)) : MatrixJson(out);
-      j["consistency"] = {{"fully_consistent", report.fully_consistent()},
+      j["consistency"] = {{"fully_consistent", consistent},
+                          {"margins_above_tolerance", report.fully_consistent()},
                           {"mass", report.mass},
                           {"min_inertia_eigenvalue_com", report.min_inertia_eigenvalue_com},
                           {"min_triangle_margin", report.min_triangle_margin},
@@ -154,10 +172,21 @@ int RunConvertCommand(const ConvertCommand& c) {
       os << c.to << ":";
       const std::vector<double> flat = Flatten(out);
       for (std::size_t i = 0; i < flat.size(); ++i) {
-        os << ((out.cols() > 1 && i % out.cols() == 0 && i > 0) ? "\n " : " ") << flat[i];
+        // Matrices: one row per line, rows after the first indented to line up under the first.
+        const bool new_row = out.cols() > 1 && i > 0 && i % out.cols() == 0;
+        os << (new_row ? "\n" + std::string(c.to.size() + 2, ' ') : std::string(i == 0 ? " " : " "))
+           << flat[i] + 0.0;  // + 0.0 turns -0 into 0
       }
       std::cout << os.str() << "\n";
-      if (!report.fully_consistent()) std::cerr << "warning: " << report.reason << "\n";
+      if (!report.fully_consistent()) {
+        if (consistent) {
+          std::cerr << "note: consistent by construction (finite theta), but so thin that the numerical check "
+                       "cannot confirm it: "
+                    << report.reason << "\n";
+        } else {
+          std::cerr << "warning: " << report.reason << "\n";
+        }
+      }
     }
     return kOk;
   } catch (const UsageError& e) {

@@ -1,4 +1,6 @@
 // `inertial study`: the paper's Section VI, reproduced.
+#include <charconv>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.hpp"
@@ -14,7 +16,8 @@ CLI::App* AddStudyCommand(CLI::App& app, StudyCommand* c) {
       "and Levenberg-Marquardt in the linear, eigenvalue, exponential and log-Cholesky parameterizations). "
       "Prints a table beside the paper's figures.");
   sub->add_option("--bodies", c->options.bodies, "number of random bodies")->default_val(1000)->check(CLI::Range(1, 1000000));
-  sub->add_option("--seed", c->options.seed, "random seed (each body's stream derives from it)")->default_val(1);
+  sub->add_option("--seed", c->seed, "random seed, an integer 0 to 2^64-1 (each body's stream derives from it)")
+      ->default_val("1");
   sub->add_option("--threads", c->options.threads, "worker threads (0: one per hardware thread)")
       ->default_val(0)
       ->check(CLI::Range(0, 256));
@@ -27,7 +30,26 @@ CLI::App* AddStudyCommand(CLI::App& app, StudyCommand* c) {
   return sub;
 }
 
-int RunStudyCommand(const StudyCommand& c) {
+int RunStudyCommand(const StudyCommand& command) {
+  StudyCommand c = command;
+  {
+    const char* first = c.seed.data();
+    const char* last = c.seed.data() + c.seed.size();
+    const std::from_chars_result r = std::from_chars(first, last, c.options.seed);
+    if (c.seed.empty() || r.ec != std::errc() || r.ptr != last) {
+      std::cerr << "Error: --seed: '" << c.seed << "' is not an integer from 0 to 18446744073709551615\n";
+      return kInvalidValue;
+    }
+  }
+  if (!c.report_dir.empty()) {  // fail before the work, not after it
+    std::error_code ec;
+    std::filesystem::create_directories(c.report_dir, ec);
+    if (ec || !std::filesystem::is_directory(c.report_dir)) {
+      std::cerr << "Error: --report: cannot create directory '" << c.report_dir << "'"
+                << (ec ? ": " + ec.message() : std::string()) << "\n";
+      return kIoError;
+    }
+  }
   const StudyResult result = RunStudy(c.options);
   if (c.json) {
     std::cout << StudyToJson(result).dump(2) << "\n";
