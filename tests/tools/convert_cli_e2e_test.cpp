@@ -664,11 +664,22 @@ TEST_F(StudyCli, ReportDirectoryThatCannotBeCreatedIsAnIoError) {
   EXPECT_TRUE(r.out.empty()) << "the directory is checked before the study runs: " << Describe(r);
 }
 
-TEST_F(StudyCli, SeedMustBeAnIntegerInRange) {
-  for (const char* bad : {"-1", "99999999999999999999999", "1.5", "abc", ""}) {
+// Integers are parsed strictly: not a number -> 3, a number out of range -> 2 (never wrapped).
+TEST_F(StudyCli, IntegerOptionsAreParsedStrictly) {
+  for (const char* bad : {"1.5", "abc", "", "1e3", "0x10"}) {
+    for (const char* option : {"--seed", "--bodies", "--threads", "--max-iterations"}) {
+      const CliRun r = RunCli({"study", option, bad});
+      EXPECT_EQ(r.exit_code, kExitInvalidValue) << option << " " << bad << " " << Describe(r);
+      EXPECT_TRUE(Contains(r.err, option)) << Describe(r);
+      EXPECT_TRUE(Contains(r.err, "not an integer")) << Describe(r);
+      EXPECT_TRUE(r.out.empty()) << Describe(r);
+    }
+  }
+  for (const char* bad : {"-1", "99999999999999999999999"}) {
     const CliRun r = RunCli({"study", "--bodies", "1", "--seed", bad});
-    EXPECT_EQ(r.exit_code, kExitInvalidValue) << bad << " " << Describe(r);
+    EXPECT_EQ(r.exit_code, kExitUsage) << bad << " " << Describe(r);
     EXPECT_TRUE(Contains(r.err, "--seed")) << Describe(r);
+    EXPECT_TRUE(Contains(r.err, "out of range")) << Describe(r);
     EXPECT_TRUE(r.out.empty()) << Describe(r);
   }
   const CliRun ok = RunCli({"study", "--bodies", "2", "--seed", "18446744073709551615", "--json"});

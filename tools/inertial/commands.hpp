@@ -13,7 +13,12 @@ namespace inertial::cli {
 
 struct StudyCommand {
   StudyOptions options;
-  std::string seed = "1";  ///< parsed strictly into options.seed (CLI11 would wrap "-1" silently)
+  // Numbers are taken as text and parsed strictly in RunStudyCommand (CLI11 would wrap "-1" into a
+  // huge unsigned seed silently, and calls "abc" out of range).
+  std::string seed = "1";
+  std::string bodies = "1000";
+  std::string threads = "0";
+  std::string max_iterations = "50";
   bool json = false;
   std::string report_dir;
 };

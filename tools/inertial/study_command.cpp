@@ -1,5 +1,6 @@
 // `inertial study`: the paper's Section VI, reproduced.
 #include <charconv>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 
@@ -15,32 +16,54 @@ CLI::App* AddStudyCommand(CLI::App& app, StudyCommand* c) {
       "Reproduce the 1000-body comparison of Section VI (Table I bodies, eq. 13 residuals, linear least squares "
       "and Levenberg-Marquardt in the linear, eigenvalue, exponential and log-Cholesky parameterizations). "
       "Prints a table beside the paper's figures.");
-  sub->add_option("--bodies", c->options.bodies, "number of random bodies")->default_val(1000)->check(CLI::Range(1, 1000000));
+  sub->add_option("--bodies", c->bodies, "number of random bodies, 1 to 1000000")->default_val("1000");
   sub->add_option("--seed", c->seed, "random seed, an integer 0 to 2^64-1 (each body's stream derives from it)")
       ->default_val("1");
-  sub->add_option("--threads", c->options.threads, "worker threads (0: one per hardware thread)")
-      ->default_val(0)
-      ->check(CLI::Range(0, 256));
-  sub->add_option("--max-iterations", c->options.solver.max_iterations, "iteration cap of every fit (paper: 50)")
-      ->default_val(50)
-      ->check(CLI::Range(1, 10000));
+  sub->add_option("--threads", c->threads, "worker threads, 0 to 256 (0: one per hardware thread)")->default_val("0");
+  sub->add_option("--max-iterations", c->max_iterations, "iteration cap of every fit, 1 to 10000 (paper: 50)")
+      ->default_val("50");
   sub->add_flag("--json", c->json, "print the results as JSON on stdout instead of the table");
   sub->add_option("--report", c->report_dir,
                   "also write DIR/table.txt, DIR/study.json, DIR/fig1.png (gnuplot; like the paper's Fig. 1)");
   return sub;
 }
 
+namespace {
+
+// Parses `text` as an integer in [lo, hi]. Returns kOk, or prints the error and returns kInvalidValue
+// (not an integer) or kUsage (out of range).
+template <typename T>
+int ParseInteger(const std::string& text, const char* option, T lo, T hi, T* out) {
+  T value{};
+  const char* last = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), last, value);
+  if (text.empty() || r.ptr != last || (r.ec != std::errc() && r.ec != std::errc::result_out_of_range)) {
+    std::cerr << "Error: " << option << ": '" << text << "' is not an integer\n";
+    return kInvalidValue;
+  }
+  if (r.ec == std::errc::result_out_of_range || value < lo || value > hi) {
+    std::cerr << "Error: " << option << ": " << text << " is out of range (" << lo << " to " << hi << ")\n";
+    return kUsage;
+  }
+  *out = value;
+  return kOk;
+}
+
+}  // namespace
+
 int RunStudyCommand(const StudyCommand& command) {
   StudyCommand c = command;
-  {
-    const char* first = c.seed.data();
-    const char* last = c.seed.data() + c.seed.size();
-    const std::from_chars_result r = std::from_chars(first, last, c.options.seed);
-    if (c.seed.empty() || r.ec != std::errc() || r.ptr != last) {
-      std::cerr << "Error: --seed: '" << c.seed << "' is not an integer from 0 to 18446744073709551615\n";
-      return kInvalidValue;
-    }
+  if (c.seed.rfind('-', 0) == 0) {  // from_chars on an unsigned type would call "-1" not a number
+    std::cerr << "Error: --seed: " << c.seed << " is out of range (0 to 18446744073709551615)\n";
+    return kUsage;
   }
+  int status = ParseInteger<std::uint64_t>(c.seed, "--seed", 0, UINT64_MAX, &c.options.seed);
+  if (status == kOk) status = ParseInteger(c.bodies, "--bodies", 1, 1000000, &c.options.bodies);
+  if (status == kOk) status = ParseInteger(c.threads, "--threads", 0, 256, &c.options.threads);
+  if (status == kOk) {
+    status = ParseInteger(c.max_iterations, "--max-iterations", 1, 10000, &c.options.solver.max_iterations);
+  }
+  if (status != kOk) return status;
   if (!c.report_dir.empty()) {  // fail before the work, not after it
     std::error_code ec;
     std::filesystem::create_directories(c.report_dir, ec);
