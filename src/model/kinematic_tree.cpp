@@ -1,0 +1,171 @@
+#include "inertial/model/kinematic_tree.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <stdexcept>
+
+#include "inertial/model/rigid_body_regressor.hpp"
+#include "inertial/model/spatial_algebra.hpp"
+
+namespace inertial {
+
+Vector6 SpatialTransform::ApplyToMotion(const Vector6& v_A) const {
+  const Vector3 w = v_A.head<3>();
+  Vector6 v_B;
+  v_B.head<3>() = R_AB.transpose() * w;
+  v_B.tail<3>() = R_AB.transpose() * (v_A.tail<3>() - p_AB.cross(w));
+  return v_B;
+}
+
+Vector6 SpatialTransform::ApplyTransposeToForce(const Vector6& f_B) const {
+  Vector6 f_A;
+  f_A.tail<3>() = R_AB * f_B.tail<3>();
+  f_A.head<3>() = R_AB * f_B.head<3>() + p_AB.cross(f_A.tail<3>());
+  return f_A;
+}
+
+int KinematicTree::AddBody(const std::string& name, int parent, const JointModel& joint,
+                           const InertialParams& inertia) {
+  if (parent < -1 || parent >= num_bodies()) {
+    throw std::invalid_argument("body '" + name + "': parent index " + std::to_string(parent) +
+                                " does not exist (add parents first)");
+  }
+  if (!joint.R_parent_joint.allFinite() || !joint.p_parent_joint.allFinite() || !joint.axis.allFinite() ||
+      !inertia.AllFinite()) {
+    throw std::invalid_argument("body '" + name + "': non-finite joint origin, axis or inertia");
+  }
+  if (joint.type != JointType::kFixed && std::abs(joint.axis.norm() - 1.0) > 1e-9) {
+    throw std::invalid_argument("body '" + name + "': joint '" + joint.name + "' axis is not a unit vector");
+  }
+  Body b;
+  b.name = name;
+  b.parent = parent;
+  b.joint = joint;
+  b.inertia = inertia;
+  b.dof = joint.type == JointType::kFixed ? -1 : num_dofs_++;
+  bodies_.push_back(b);
+  return num_bodies() - 1;
+}
+
+Eigen::VectorXd KinematicTree::StackedParameters() const {
+  Eigen::VectorXd pi(10 * num_bodies());
+  for (int i = 0; i < num_bodies(); ++i) pi.segment<10>(10 * i) = bodies_[i].inertia.vector();
+  return pi;
+}
+
+SpatialTransform KinematicTree::ParentToBody(int i, double q_i) const {
+  const JointModel& j = bodies_[i].joint;
+  SpatialTransform X;
+  X.R_AB = j.R_parent_joint;
+  X.p_AB = j.p_parent_joint;
+  if (j.type == JointType::kRevolute) {
+    X.R_AB = j.R_parent_joint * Eigen::AngleAxisd(q_i, j.axis).toRotationMatrix();
+  } else if (j.type == JointType::kPrismatic) {
+    X.p_AB = j.p_parent_joint + j.R_parent_joint * (q_i * j.axis);
+  }
+  return X;
+}
+
+Vector6 KinematicTree::MotionSubspace(int i) const {
+  const JointModel& j = bodies_[i].joint;
+  Vector6 S = Vector6::Zero();
+  // The axis is fixed in the joint frame and unchanged by motion along itself, so it has the same
+  // coordinates in the body frame.
+  if (j.type == JointType::kRevolute) S.head<3>() = j.axis;
+  if (j.type == JointType::kPrismatic) S.tail<3>() = j.axis;
+  return S;
+}
+
+void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                               const Vector3& g_base, std::vector<SpatialTransform>* X, std::vector<Vector6>* v,
+                               std::vector<Vector6>* a) const {
+  if (q.size() != num_dofs_ || qd.size() != num_dofs_ || qdd.size() != num_dofs_) {
+    throw std::invalid_argument("kinematic tree: q, qd, qdd must have " + std::to_string(num_dofs_) +
+                                " entries, got " + std::to_string(q.size()) + ", " + std::to_string(qd.size()) +
+                                ", " + std::to_string(qdd.size()));
+  }
+  const int n = num_bodies();
+  X->resize(n);
+  v->resize(n);
+  a->resize(n);
+  Vector6 a_base = Vector6::Zero();
+  a_base.tail<3>() = -g_base;  // gravity as an upward acceleration of the base (Featherstone 5.3)
+  for (int i = 0; i < n; ++i) {
+    const Body& b = bodies_[i];
+    const double qi = b.dof >= 0 ? q[b.dof] : 0.0;
+    const double qdi = b.dof >= 0 ? qd[b.dof] : 0.0;
+    const double qddi = b.dof >= 0 ? qdd[b.dof] : 0.0;
+    (*X)[i] = ParentToBody(i, qi);
+    const Vector6 v_parent = b.parent >= 0 ? (*v)[b.parent] : Vector6::Zero();
+    const Vector6 a_parent = b.parent >= 0 ? (*a)[b.parent] : a_base;
+    const Vector6 S = MotionSubspace(i);
+    (*v)[i] = (*X)[i].ApplyToMotion(v_parent) + S * qdi;
+    (*a)[i] = (*X)[i].ApplyToMotion(a_parent) + S * qddi + MotionCross((*v)[i]) * (S * qdi);
+  }
+}
+
+Eigen::VectorXd KinematicTree::InverseDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                               const Eigen::VectorXd& qdd, const Vector3& g_base) const {
+  std::vector<SpatialTransform> X;
+  std::vector<Vector6> v, a;
+  Kinematics(q, qd, qdd, g_base, &X, &v, &a);
+  const int n = num_bodies();
+  std::vector<Vector6> f(n);
+  for (int i = 0; i < n; ++i) {
+    const Matrix6 M = bodies_[i].inertia.spatial_inertia();
+    f[i] = M * a[i] + ForceCross(v[i]) * (M * v[i]);
+  }
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(num_dofs_);
+  for (int i = n - 1; i >= 0; --i) {
+    if (bodies_[i].dof >= 0) tau[bodies_[i].dof] = MotionSubspace(i).dot(f[i]);
+    if (bodies_[i].parent >= 0) f[bodies_[i].parent] += X[i].ApplyTransposeToForce(f[i]);
+  }
+  return tau;
+}
+
+Eigen::MatrixXd KinematicTree::JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                                    const Eigen::VectorXd& qdd, const Vector3& g_base) const {
+  std::vector<SpatialTransform> X;
+  std::vector<Vector6> v, a;
+  Kinematics(q, qd, qdd, g_base, &X, &v, &a);
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(num_dofs_, 10 * num_bodies());
+  for (int i = 0; i < num_bodies(); ++i) {
+    // Body i's wrench, linear in its pi, carried up to the root: each ancestor joint j sees S_j^T F.
+    Matrix6x10 F = RigidBodyRegressor(v[i], a[i]);
+    for (int j = i; j >= 0; j = bodies_[j].parent) {
+      if (bodies_[j].dof >= 0) Y.block<1, 10>(bodies_[j].dof, 10 * i) = MotionSubspace(j).transpose() * F;
+      if (bodies_[j].parent >= 0) {
+        for (int c = 0; c < 10; ++c) F.col(c) = X[j].ApplyTransposeToForce(F.col(c));
+      }
+    }
+  }
+  return Y;
+}
+
+std::vector<Vector6> KinematicTree::BodyVelocities(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
+  std::vector<SpatialTransform> X;
+  std::vector<Vector6> v, a;
+  Kinematics(q, qd, Eigen::VectorXd::Zero(num_dofs_), Vector3::Zero(), &X, &v, &a);
+  return v;
+}
+
+std::vector<SpatialTransform> KinematicTree::BodyPoses(const Eigen::VectorXd& q) const {
+  if (q.size() != num_dofs_) {
+    throw std::invalid_argument("kinematic tree: q must have " + std::to_string(num_dofs_) + " entries, got " +
+                                std::to_string(q.size()));
+  }
+  std::vector<SpatialTransform> pose(num_bodies());
+  for (int i = 0; i < num_bodies(); ++i) {
+    const SpatialTransform X = ParentToBody(i, bodies_[i].dof >= 0 ? q[bodies_[i].dof] : 0.0);
+    if (bodies_[i].parent < 0) {
+      pose[i] = X;
+    } else {
+      const SpatialTransform& P = pose[bodies_[i].parent];
+      pose[i].R_AB = P.R_AB * X.R_AB;
+      pose[i].p_AB = P.p_AB + P.R_AB * X.p_AB;
+    }
+  }
+  return pose;
+}
+
+}  // namespace inertial
