@@ -26,9 +26,7 @@ inline std::vector<Vector10> InconsistentBodies(unsigned seed) {
   bodies.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.0, 0.0)).vector());    // rod
   bodies.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, -0.05)).vector());  // triangle violated
   for (int n = 0; n < 500; ++n) {  // plates in general position (L = 0 only up to rounding)
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-2.0, 2.0);
+    const Pose pose = rng.RandomPose<Pose>(2.0);
     bodies.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0),
                                            Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0), pose)
                          .vector());

@@ -30,6 +30,15 @@ class Rng {
     q.normalize();
     return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
   }
+  /// A uniformly random rotation and an offset uniform in [-max_offset, max_offset]^3, as the
+  /// rotation and position of a body frame (closed_form_bodies.hpp's Pose has these two members).
+  template <typename PoseT>
+  PoseT RandomPose(double max_offset) {
+    PoseT pose;
+    pose.R_BC = Rotation();
+    pose.p_BoCo_B = UniformVector<3>(-max_offset, max_offset);
+    return pose;
+  }
   std::mt19937& engine() { return gen_; }
 
  private:

@@ -60,9 +60,7 @@ TEST(ClosedFormBodies, MatchQuadratureOfTheirShapes) {
 TEST(ClosedFormBodies, PoseIsATransformOfTheCentredBody) {
   Rng rng(4);
   for (int trial = 0; trial < 100; ++trial) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     const InertialParams centred = SolidCylinder(1.2, 0.1, 0.5);
     const InertialParams placed = SolidCylinder(1.2, 0.1, 0.5, pose);
     EXPECT_LT(RelativeError(placed.vector(), centred.Transformed(pose.R_BC, pose.p_BoCo_B).vector()), 1e-14);

@@ -13,9 +13,7 @@ using testing::Rng;
 TEST(Consistency, SolidBodiesAreConsistentWithExactMargins) {
   Rng rng(1);
   for (int trial = 0; trial < 500; ++trial) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     const double m = rng.Uniform(0.1, 5.0);
     const Vector3 L = rng.UniformVector<3>(0.01, 1.0);
     const ConsistencyReport r = CheckConsistency(BodyFromSecondMoments(m, L, pose));
@@ -34,9 +32,7 @@ TEST(Consistency, SolidBodiesAreConsistentWithExactMargins) {
 TEST(Consistency, DegenerateBodiesAreNotFullyConsistent) {
   Rng rng(2);
   for (int trial = 0; trial < 100; ++trial) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     const double m = rng.Uniform(0.1, 5.0);
     const double a = rng.Uniform(0.01, 1.0), b = rng.Uniform(0.01, 1.0);
     const ConsistencyReport point = CheckConsistency(BodyFromSecondMoments(m, Vector3::Zero(), pose));

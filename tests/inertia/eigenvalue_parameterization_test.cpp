@@ -72,9 +72,7 @@ Vector3 RandomDirection(Rng& rng) { return Vector3(rng.Normal(), rng.Normal(), r
 
 // A random fully consistent body: mass, COM, uniformly random rotation, second moments.
 InertialParams RandomBody(Rng& rng) {
-  Pose pose;
-  pose.R_BC = rng.Rotation();
-  pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+  const Pose pose = rng.RandomPose<Pose>(1.0);
   const double m = rng.Uniform(0.1, 10.0);
   return BodyFromSecondMoments(m, m * rng.UniformVector<3>(1e-3, 0.5), pose);
 }
@@ -280,9 +278,7 @@ TEST(EigenvalueParameterization, FromPiRecoversTheSecondMoments) {
   for (int n = 0; n < 1000; ++n) {
     const double m = rng.Uniform(0.1, 10.0);
     Vector3 L = m * rng.UniformVector<3>(1e-3, 0.5);
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     Vector10 phi;
     ASSERT_TRUE(param.FromPi(BodyFromSecondMoments(m, L, pose).vector(), &phi));
     std::sort(L.data(), L.data() + 3);

@@ -92,9 +92,7 @@ Vector10 WithEigenvalues(Rng& rng, const Vector4& l) {
 
 // A random fully consistent body: mass, COM, uniformly random rotation, second moments.
 InertialParams RandomBody(Rng& rng) {
-  Pose pose;
-  pose.R_BC = rng.Rotation();
-  pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+  const Pose pose = rng.RandomPose<Pose>(1.0);
   const double m = rng.Uniform(0.1, 10.0);
   return BodyFromSecondMoments(m, m * rng.UniformVector<3>(1e-3, 0.5), pose);
 }

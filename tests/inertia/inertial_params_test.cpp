@@ -81,9 +81,7 @@ TEST(InertialParams, ConversionsMatchDirectSummation) {
 TEST(InertialParams, RoundTripsThroughEveryRepresentation) {
   Rng rng(2);
   for (int trial = 0; trial < 1000; ++trial) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     const InertialParams body = SolidBox(rng.Uniform(0.1, 5.0), rng.Uniform(0.1, 1.0), rng.Uniform(0.1, 1.0),
                                          rng.Uniform(0.1, 1.0), pose);
     const Vector10& pi = body.vector();

@@ -136,9 +136,7 @@ TEST(LogCholesky, RoundTripPiThetaPi) {
   Rng rng(20);
   const LogCholeskyParameterization param;
   for (int n = 0; n < 10000; ++n) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
+    const Pose pose = rng.RandomPose<Pose>(1.0);
     const InertialParams body =
         BodyFromSecondMoments(rng.Uniform(0.01, 10.0), rng.UniformVector<3>(1e-4, 1.0), pose);
     const Vector10 theta = param.ThetaOf(body);
@@ -199,9 +197,7 @@ TEST(LogCholesky, InverseRefusesInconsistentBodies) {
 TEST(LogCholeskyRelative, PhysicalMeaningOfTheParameters) {
   Rng rng(16);
   for (int n = 0; n < 200; ++n) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+    const Pose pose = rng.RandomPose<Pose>(0.5);
     const InertialParams reference = SolidBox(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0),
                                               rng.Uniform(0.05, 1.0), pose);
     const LogCholeskyParameterization param(reference);
@@ -235,9 +231,7 @@ TEST(LogCholeskyRelative, PhysicalMeaningOfTheParameters) {
 TEST(LogCholeskyRelative, JacobianMatchesCentralDifferencesAndRoundTrips) {
   Rng rng(17);
   for (int n = 0; n < 200; ++n) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+    const Pose pose = rng.RandomPose<Pose>(0.5);
     const InertialParams reference =
         SolidEllipsoid(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), pose);
     const LogCholeskyParameterization param(reference);

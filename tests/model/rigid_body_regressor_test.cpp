@@ -13,9 +13,7 @@ using testing::RelativeError;
 using testing::Rng;
 
 InertialParams RandomBody(Rng& rng) {
-  Pose pose;
-  pose.R_BC = rng.Rotation();
-  pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+  const Pose pose = rng.RandomPose<Pose>(0.5);
   return BodyFromSecondMoments(rng.Uniform(0.1, 3.0), rng.UniformVector<3>(0.01, 1.0), pose);
 }
 

@@ -44,9 +44,7 @@ TEST(RigidBodySimulation, SymmetricTopMatchesClosedForm) {
 TEST(RigidBodySimulation, EnergyAndMomentumBehaveAsPhysicsSays) {
   Rng rng(5);
   for (int trial = 0; trial < 20; ++trial) {
-    Pose pose;
-    pose.R_BC = rng.Rotation();
-    pose.p_BoCo_B = rng.UniformVector<3>(-0.5, 0.5);
+    const Pose pose = rng.RandomPose<Pose>(0.5);
     const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.1, 1.0), rng.UniformVector<3>(0.01, 1.0), pose);
     const Vector6 xi0 = rng.UniformVector<6>(-1.0, 1.0);
 

@@ -217,9 +217,7 @@ Vector10 TextbookBoxPi(double m, double a, double b, double c, const Vector3& p)
 }
 
 Pose RandomPose(Rng& rng) {
-  Pose pose;
-  pose.R_BC = rng.Rotation();
-  pose.p_BoCo_B = rng.UniformVector<3>(-0.8, 0.8);
+  const Pose pose = rng.RandomPose<Pose>(0.8);
   return pose;
 }
 
