@@ -47,6 +47,27 @@ int KinematicTree::AddBody(const std::string& name, int parent, const JointModel
   return num_bodies() - 1;
 }
 
+int KinematicTree::AddRotor(const std::string& name, int parent, const JointModel& joint,
+                            const InertialParams& inertia, int driven_dof, double gear_ratio) {
+  if (joint.type != JointType::kRevolute) {
+    throw std::invalid_argument("rotor '" + name + "': its joint must be revolute");
+  }
+  if (driven_dof < 0 || driven_dof >= num_dofs_) {
+    throw std::invalid_argument("rotor '" + name + "': driven DOF " + std::to_string(driven_dof) +
+                                " does not exist");
+  }
+  if (!std::isfinite(gear_ratio) || gear_ratio == 0.0) {
+    throw std::invalid_argument("rotor '" + name + "': gear ratio must be finite and non-zero");
+  }
+  const int dofs_before = num_dofs_;
+  const int i = AddBody(name, parent, joint, inertia);
+  num_dofs_ = dofs_before;
+  bodies_[i].dof = driven_dof;
+  bodies_[i].gear = gear_ratio;
+  bodies_[i].rotor = true;
+  return i;
+}
+
 Eigen::VectorXd KinematicTree::StackedParameters() const {
   Eigen::VectorXd pi(10 * num_bodies());
   for (int i = 0; i < num_bodies(); ++i) pi.segment<10>(10 * i) = bodies_[i].inertia.vector();
@@ -92,9 +113,10 @@ void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   a_base.tail<3>() = -g_base;  // gravity as an upward acceleration of the base (Featherstone 5.3)
   for (int i = 0; i < n; ++i) {
     const Body& b = bodies_[i];
-    const double qi = b.dof >= 0 ? q[b.dof] : 0.0;
-    const double qdi = b.dof >= 0 ? qd[b.dof] : 0.0;
-    const double qddi = b.dof >= 0 ? qdd[b.dof] : 0.0;
+    // A rotor turns by gear * q (zero offset at q = 0), so a non-symmetric rotor's pose is exact.
+    const double qi = b.dof >= 0 ? b.gear * q[b.dof] : 0.0;
+    const double qdi = b.dof >= 0 ? b.gear * qd[b.dof] : 0.0;
+    const double qddi = b.dof >= 0 ? b.gear * qdd[b.dof] : 0.0;
     (*X)[i] = ParentToBody(i, qi);
     const Vector6 v_parent = b.parent >= 0 ? (*v)[b.parent] : Vector6::Zero();
     const Vector6 a_parent = b.parent >= 0 ? (*a)[b.parent] : a_base;
@@ -117,7 +139,7 @@ Eigen::VectorXd KinematicTree::InverseDynamics(const Eigen::VectorXd& q, const E
   }
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(num_dofs_);
   for (int i = n - 1; i >= 0; --i) {
-    if (bodies_[i].dof >= 0) tau[bodies_[i].dof] = MotionSubspace(i).dot(f[i]);
+    if (bodies_[i].dof >= 0) tau[bodies_[i].dof] += bodies_[i].gear * MotionSubspace(i).dot(f[i]);
     if (bodies_[i].parent >= 0) f[bodies_[i].parent] += X[i].ApplyTransposeToForce(f[i]);
   }
   return tau;
@@ -133,7 +155,9 @@ Eigen::MatrixXd KinematicTree::JointTorqueRegressor(const Eigen::VectorXd& q, co
     // Body i's wrench, linear in its pi, carried up to the root: each ancestor joint j sees S_j^T F.
     Matrix6x10 F = RigidBodyRegressor(v[i], a[i]);
     for (int j = i; j >= 0; j = bodies_[j].parent) {
-      if (bodies_[j].dof >= 0) Y.block<1, 10>(bodies_[j].dof, 10 * i) = MotionSubspace(j).transpose() * F;
+      if (bodies_[j].dof >= 0) {
+        Y.block<1, 10>(bodies_[j].dof, 10 * i) += bodies_[j].gear * (MotionSubspace(j).transpose() * F);
+      }
       if (bodies_[j].parent >= 0) {
         for (int c = 0; c < 10; ++c) F.col(c) = X[j].ApplyTransposeToForce(F.col(c));
       }
@@ -156,7 +180,7 @@ std::vector<SpatialTransform> KinematicTree::BodyPoses(const Eigen::VectorXd& q)
   }
   std::vector<SpatialTransform> pose(num_bodies());
   for (int i = 0; i < num_bodies(); ++i) {
-    const SpatialTransform X = ParentToBody(i, bodies_[i].dof >= 0 ? q[bodies_[i].dof] : 0.0);
+    const SpatialTransform X = ParentToBody(i, bodies_[i].dof >= 0 ? bodies_[i].gear * q[bodies_[i].dof] : 0.0);
     if (bodies_[i].parent < 0) {
       pose[i] = X;
     } else {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <tuple>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "test_support.hpp"
@@ -28,6 +29,17 @@ KinematicTree RandomTree(Rng& rng) {
     const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.2, 3.0), rng.UniformVector<3>(0.001, 0.05),
                                                       Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)});
     tree.AddBody("b" + std::to_string(i), parents[i], j, body);
+  }
+  // Two geared rotors: one on the base driving body 0's joint, one on body 1 driving body 3's joint.
+  for (const auto& [parent, driven, ratio] : {std::tuple{-1, 0, -9.0}, std::tuple{1, 3, 6.5}}) {
+    JointModel j;
+    j.name = "rotor_of_b" + std::to_string(driven);
+    j.R_parent_joint = rng.Rotation();
+    j.p_parent_joint = rng.UniformVector<3>(-0.1, 0.1);
+    j.axis = rng.UniformVector<3>(-1, 1).normalized();
+    const InertialParams rotor = BodyFromSecondMoments(rng.Uniform(0.1, 0.5), rng.UniformVector<3>(1e-5, 1e-3),
+                                                       Pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)});
+    tree.AddRotor(j.name, parent, j, rotor, tree.dof_index(driven), ratio);
   }
   return tree;
 }
@@ -117,6 +129,29 @@ TEST(KinematicTree, PendulumClosedForm) {
       EXPECT_NEAR(tree.InverseDynamics(Q, Qd, Qdd, Vector3(0, -g, 0))[0], expected, 1e-12);
     }
   }
+}
+
+// A geared rotor on the base driving a pendulum: the rotor's axial inertia Ir appears reflected as
+// N^2 Ir qdd on the joint; a rotor spinning about its axis of symmetry adds nothing else.
+TEST(KinematicTree, GearedRotorReflectsInertiaByRatioSquared) {
+  const double m = 1.3, r = 0.05, l = 0.7, g = 9.81, N = 9.0;
+  KinematicTree tree;
+  JointModel j;
+  j.name = "pivot";
+  tree.AddBody("bob", -1, j, SolidSphere(m, r, Pose{Matrix3::Identity(), Vector3(l, 0, 0)}));
+  const InertialParams rotor = SolidCylinder(0.2, 0.03, 0.02);  // axis z, at the origin
+  const double Ir = 0.5 * 0.2 * 0.03 * 0.03;
+  j.name = "rotor";
+  tree.AddRotor("rotor", -1, j, rotor, 0, N);
+  EXPECT_EQ(tree.num_dofs(), 1);
+  Eigen::VectorXd Q(1), Qd(1), Qdd(1);
+  Q << 0.4;
+  Qd << 1.7;
+  Qdd << -2.3;
+  const double expected = (0.4 * m * r * r + m * l * l + N * N * Ir) * Qdd[0] + m * g * l * std::cos(Q[0]);
+  EXPECT_NEAR(tree.InverseDynamics(Q, Qd, Qdd, Vector3(0, -g, 0))[0], expected, 1e-12);
+  EXPECT_THROW(tree.AddRotor("r2", -1, j, rotor, 1, N), std::invalid_argument);    // no DOF 1
+  EXPECT_THROW(tree.AddRotor("r2", -1, j, rotor, 0, 0.0), std::invalid_argument);  // zero ratio
 }
 
 TEST(KinematicTree, RejectsBadInput) {

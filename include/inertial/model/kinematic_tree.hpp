@@ -44,14 +44,26 @@ class KinematicTree {
   /// (within 1e-9) or any number is not finite.
   int AddBody(const std::string& name, int parent, const JointModel& joint, const InertialParams& inertia);
 
+  /// Adds a geared rotor: a body on `parent` that turns about its own revolute `joint` at
+  /// gear_ratio * qd[driven_dof] (a motor rotor behind a gearbox, as in the Cheetah leg of the
+  /// paper's Section VII). It adds no DOF; its reaction appears on driven_dof multiplied by the
+  /// ratio and on the parent chain. Returns its body index.
+  /// @throws std::invalid_argument as AddBody, and if the joint is not revolute, driven_dof does
+  /// not exist or the ratio is zero or not finite.
+  int AddRotor(const std::string& name, int parent, const JointModel& joint, const InertialParams& inertia,
+               int driven_dof, double gear_ratio);
+
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   /// Number of 1-DOF joints (fixed joints have none). q, qd, qdd, tau have this size.
   int num_dofs() const { return num_dofs_; }
   const std::string& body_name(int i) const { return bodies_[i].name; }
   const JointModel& joint(int i) const { return bodies_[i].joint; }
   int parent(int i) const { return bodies_[i].parent; }
-  /// The DOF index of body i's joint, or -1 for a fixed joint.
+  /// The DOF index of body i's joint (for a rotor: the DOF that drives it), or -1 for a fixed joint.
   int dof_index(int i) const { return bodies_[i].dof; }
+  /// Joint rate of body i per unit rate of its DOF: 1 for joints, the gear ratio for rotors.
+  double gear_ratio(int i) const { return bodies_[i].gear; }
+  bool is_rotor(int i) const { return bodies_[i].rotor; }
   const InertialParams& inertia(int i) const { return bodies_[i].inertia; }
   /// All bodies' pi stacked (10 per body, in body order).
   Eigen::VectorXd StackedParameters() const;
@@ -77,6 +89,8 @@ class KinematicTree {
     std::string name;
     int parent = -1;
     int dof = -1;
+    double gear = 1.0;
+    bool rotor = false;
     JointModel joint;
     InertialParams inertia;
   };
