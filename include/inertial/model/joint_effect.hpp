@@ -1,0 +1,55 @@
+/// @file joint_effect.hpp
+/// The catalog of effects beyond the links' rigid-body dynamics, and the `--effects` syntax.
+///
+/// Joint effects (torque on joint j; every coefficient that must be non-negative is c = e^s with s
+/// free, as the paper does for friction in eq. 14):
+///   viscous   b qd                      b >= 0          [N m s/rad]
+///   coulomb   bc tanh(qd / v_s)         bc >= 0         [N m]; smoothed sign(qd), v_s = `scale`
+///                                                       (default 0.01 rad/s; tanh is within 2 % of
+///                                                       sign(qd) for |qd| > 2.3 v_s)
+///   offset    c                         free            [N m] (torque-sensor bias)
+///   armature  Ia qdd                    Ia >= 0         [kg m^2] (reflected rotor inertia)
+///   spring    k (q - q0)                k >= 0, q0 free [N m/rad], [rad]
+/// Body effects (ten log-Cholesky parameters each, relative to a prior body, eq. 11):
+///   payload   an extra rigid body fixed to a link (default prior: a 0.5 kg sphere of radius 0.05 m
+///             at the link origin; `mass=`, `radius=` change it)
+///   rotor     a motor rotor behind a gearbox of ratio `gear` (required), on the joint's parent
+///             link, coaxial with the joint, turning at gear * qd (default prior: a 0.3 kg cylinder of
+///             radius 0.04 m and length 0.03 m; `mass=`, `radius=`, `length=` change it).
+/// (Units are those of revolute joints; prismatic joints use N, m, kg.)
+///
+/// Syntax of a list: items separated by commas, each `kind[@target][:key=value...]`, e.g.
+///   viscous,coulomb@knee:scale=0.05,payload@tool0:mass=2,rotor@hip:gear=6
+/// A joint effect without a target applies to every actuated joint; payload and rotor need one.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace inertial {
+
+enum class EffectKind { kViscous, kCoulomb, kOffset, kArmature, kSpring, kPayload, kRotor };
+
+/// "viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor".
+std::string_view ToString(EffectKind kind);
+/// True for the per-joint scalar effects (not payload or rotor).
+bool IsJointEffect(EffectKind kind);
+
+struct EffectSpec {
+  EffectKind kind = EffectKind::kViscous;
+  std::string target;            ///< joint (joint effects, rotor) or link (payload); empty: every joint
+  double velocity_scale = 0.01;  ///< coulomb smoothing v_s [rad/s or m/s]
+  double gear_ratio = 0.0;       ///< rotor: rotor rate / joint rate (required, non-zero)
+  double mass = 0.0;             ///< payload / rotor prior mass [kg] (0: the default above)
+  double radius = 0.0;           ///< payload / rotor prior radius [m] (0: the default above)
+  double length = 0.0;           ///< rotor prior length [m] (0: the default above)
+  std::string text;              ///< the item as written, for messages
+};
+
+/// Parses a comma-separated list. Targets are not checked against a model here.
+/// @throws std::invalid_argument naming the item and what is wrong (unknown kind, missing target,
+/// unknown key, bad number, missing gear ratio).
+std::vector<EffectSpec> ParseEffectList(std::string_view text);
+
+}  // namespace inertial

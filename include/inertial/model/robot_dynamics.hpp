@@ -1,0 +1,107 @@
+/// @file robot_dynamics.hpp
+/// A robot's joint-space dynamics with every unknown in one parameter vector x:
+///
+///   tau = A(q, qd, qdd) w(x),
+///
+/// where A = [Y  Phi] holds the joint-torque regressor Y of every tree body (links and rotors, 10
+/// columns each) and the effect features Phi (qd, tanh(qd/v_s), 1, qdd, q ...), and w(x) stacks the
+/// bodies' pi and the effect coefficients. A depends on the data only; w on the parameters only.
+///
+/// x = [theta of every estimated body (10 each, log-Cholesky relative to its prior, eq. 11: x = 0
+/// is the prior); effect parameters]. Estimated bodies are, in order: every tree body (URDF links,
+/// then rotors), then payloads (each adds to the pi block of the tree body its link belongs to).
+/// Effect parameters: s with coefficient e^s for viscous, coulomb, armature (non-negative by
+/// construction); c for offset; [s, q0] for spring (k = e^s, features q and -1 with coefficients
+/// k and k q0). See joint_effect.hpp for the catalog.
+/// Conventions: pi about each tree body's frame origin in its axes (types.hpp order); SI units;
+/// gravity in the base frame.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "inertial/inertia/log_cholesky.hpp"
+#include "inertial/model/joint_effect.hpp"
+#include "inertial/model/kinematic_tree.hpp"
+
+namespace inertial {
+
+/// Where a link sits: its tree body and the link frame's pose in that body's frame.
+struct LinkLocation {
+  int body = -1;
+  SpatialTransform link_in_body;
+};
+/// Finds a link by name (links merged by fixed joints included); false if there is none.
+using LinkResolver = std::function<bool(const std::string& link, LinkLocation* location)>;
+
+struct EstimatedBody {
+  std::string name;          ///< link name, "rotor@<joint>" or "payload@<link>"
+  int tree_body = -1;        ///< the regressor block its pi adds to
+  InertialParams prior;      ///< in the tree body's frame
+  LogCholeskyParameterization map;  ///< relative to the prior (eq. 11)
+  SpatialTransform report_frame;    ///< the user's frame for it, posed in the tree body's frame
+};
+
+struct EffectTerm {
+  EffectKind kind = EffectKind::kViscous;
+  int dof = -1;
+  std::string joint;
+  double velocity_scale = 0.01;  ///< coulomb only
+  int first_parameter = 0;       ///< index into x
+  int first_feature = 0;         ///< index into w and the columns of A
+  int size() const { return kind == EffectKind::kSpring ? 2 : 1; }
+};
+
+class RobotDynamics {
+ public:
+  /// @param links the robot's links (no rotors); @param dof_names the joint name of every DOF.
+  /// @throws std::invalid_argument naming the effect and what is wrong: unknown joint or link,
+  /// an effect given twice for a joint, a payload on the fixed base.
+  RobotDynamics(const KinematicTree& links, std::vector<std::string> dof_names, const std::vector<EffectSpec>& effects,
+                const LinkResolver& resolve_link, const Vector3& gravity = Vector3(0, 0, -9.81));
+
+  int num_dofs() const { return tree_.num_dofs(); }
+  int num_parameters() const { return num_parameters_; }
+  int num_features() const { return num_features_; }
+  int num_inertia_features() const { return 10 * tree_.num_bodies(); }
+  const KinematicTree& tree() const { return tree_; }  ///< links and rotors
+  const std::vector<std::string>& dof_names() const { return dof_names_; }
+  const std::vector<EstimatedBody>& bodies() const { return bodies_; }
+  const std::vector<EffectTerm>& effects() const { return effects_; }
+  const Vector3& gravity() const { return gravity_; }
+
+  /// Names of the entries of x ("thigh.alpha", "viscous@knee.log_b", ...) and of w / the columns
+  /// of A ("thigh.m", "thigh.hx", ..., "viscous@knee.b").
+  std::vector<std::string> ParameterNames() const;
+  std::vector<std::string> FeatureNames() const;
+
+  /// A(q, qd, qdd) into rows [0, num_dofs) of `A` (num_dofs x num_features).
+  void Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                Eigen::Ref<Eigen::MatrixXd> A) const;
+  /// w(x) and (optionally) J_w_x (num_features x num_parameters, block diagonal per body/effect).
+  Eigen::VectorXd Coefficients(const Eigen::VectorXd& x, Eigen::MatrixXd* J_w_x = nullptr) const;
+  /// tau = A(q, qd, qdd) w(x).
+  Eigen::VectorXd InverseDynamics(const Eigen::VectorXd& x, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                  const Eigen::VectorXd& qdd) const;
+
+  /// x from effect coefficients w_e (one value per effect feature, as in w): theta = 0 for every
+  /// body; non-negative coefficients floored at `floor` before the log; spring q0 = (k q0) / k.
+  Eigen::VectorXd ParametersFromEffectCoefficients(const Eigen::VectorXd& effect_coefficients,
+                                                   double floor = 1e-6) const;
+  /// Estimated body e at x, in its report frame.
+  InertialParams BodyInertia(int e, const Eigen::VectorXd& x) const;
+  /// The physical coefficients of effect term k at x: {b}, {bc}, {c}, {Ia}, or {k, q0}.
+  std::vector<double> EffectValues(int k, const Eigen::VectorXd& x) const;
+
+ private:
+  KinematicTree tree_;
+  std::vector<std::string> dof_names_;
+  std::vector<EstimatedBody> bodies_;
+  std::vector<EffectTerm> effects_;
+  Vector3 gravity_;
+  int num_parameters_ = 0;
+  int num_features_ = 0;
+};
+
+}  // namespace inertial

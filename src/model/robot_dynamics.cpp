@@ -1,0 +1,258 @@
+#include "inertial/model/robot_dynamics.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "inertial/inertia/closed_form_bodies.hpp"
+
+namespace inertial {
+namespace {
+
+constexpr const char* kPiNames[10] = {"m", "hx", "hy", "hz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
+constexpr const char* kThetaNames[10] = {"alpha", "d1", "d2", "d3", "s12", "s23", "s13", "t1", "t2", "t3"};
+
+// A rotation taking the z axis to `axis` (unit).
+Matrix3 RotationZTo(const Vector3& axis) {
+  return Eigen::Quaterniond::FromTwoVectors(Vector3::UnitZ(), axis).toRotationMatrix();
+}
+
+bool NonNegative(EffectKind kind) {
+  return kind == EffectKind::kViscous || kind == EffectKind::kCoulomb || kind == EffectKind::kArmature;
+}
+
+}  // namespace
+
+RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string> dof_names,
+                             const std::vector<EffectSpec>& effects, const LinkResolver& resolve_link,
+                             const Vector3& gravity)
+    : tree_(links), dof_names_(std::move(dof_names)), gravity_(gravity) {
+  if (static_cast<int>(dof_names_.size()) != links.num_dofs()) {
+    throw std::invalid_argument("robot dynamics: " + std::to_string(dof_names_.size()) + " joint names for " +
+                                std::to_string(links.num_dofs()) + " DOFs");
+  }
+  if (!gravity.allFinite()) throw std::invalid_argument("robot dynamics: gravity is not finite");
+  auto dof_of = [&](const EffectSpec& e) {
+    const auto it = std::find(dof_names_.begin(), dof_names_.end(), e.target);
+    if (it == dof_names_.end()) {
+      std::string known;
+      for (const std::string& n : dof_names_) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("effect '" + e.text + "': unknown joint '" + e.target + "' (joints: " + known + ")");
+    }
+    return static_cast<int>(it - dof_names_.begin());
+  };
+
+  // Rotors become tree bodies on the joint's parent body, coaxial with the joint.
+  std::vector<std::pair<std::string, InertialParams>> rotor_priors;
+  std::set<int> rotor_dofs;
+  for (const EffectSpec& e : effects) {
+    if (e.kind != EffectKind::kRotor) continue;
+    const int dof = dof_of(e);
+    if (!rotor_dofs.insert(dof).second) throw std::invalid_argument("effect '" + e.text + "': a second rotor on joint '" + e.target + "'");
+    int child = -1;
+    for (int b = 0; b < links.num_bodies(); ++b) {
+      if (links.dof_index(b) == dof) child = b;
+    }
+    JointModel joint = links.joint(child);
+    joint.name = "rotor@" + e.target;
+    if (joint.type != JointType::kRevolute) {
+      throw std::invalid_argument("effect '" + e.text + "': joint '" + e.target + "' is not revolute");
+    }
+    const double m = e.mass > 0 ? e.mass : 0.3, r = e.radius > 0 ? e.radius : 0.04, l = e.length > 0 ? e.length : 0.03;
+    const InertialParams prior = SolidCylinder(m, r, l, Pose{RotationZTo(joint.axis), Vector3::Zero()});
+    tree_.AddRotor(joint.name, links.parent(child), joint, prior, dof, e.gear_ratio);
+  }
+  for (int b = 0; b < tree_.num_bodies(); ++b) {
+    bodies_.push_back(EstimatedBody{tree_.body_name(b), b, tree_.inertia(b), LogCholeskyParameterization(tree_.inertia(b)),
+                                    SpatialTransform()});
+  }
+  std::set<std::string> payload_links;
+  for (const EffectSpec& e : effects) {
+    if (e.kind != EffectKind::kPayload) continue;
+    LinkLocation where;
+    if (!resolve_link || !resolve_link(e.target, &where)) {
+      throw std::invalid_argument("effect '" + e.text + "': unknown link '" + e.target + "'");
+    }
+    if (where.body < 0) {
+      throw std::invalid_argument("effect '" + e.text + "': link '" + e.target +
+                                  "' is fixed to the base, so a payload on it never affects the joint torques");
+    }
+    if (!payload_links.insert(e.target).second) throw std::invalid_argument("effect '" + e.text + "': a second payload on '" + e.target + "'");
+    const double m = e.mass > 0 ? e.mass : 0.5, r = e.radius > 0 ? e.radius : 0.05;
+    const InertialParams prior = SolidSphere(m, r).Transformed(where.link_in_body.R_AB, where.link_in_body.p_AB);
+    bodies_.push_back(EstimatedBody{"payload@" + e.target, where.body, prior, LogCholeskyParameterization(prior),
+                                    where.link_in_body});
+  }
+  num_parameters_ = 10 * static_cast<int>(bodies_.size());
+  num_features_ = 10 * tree_.num_bodies();
+
+  // Joint effects: one term per (kind, joint), in the order given.
+  std::set<std::pair<int, int>> seen;
+  for (const EffectSpec& e : effects) {
+    if (!IsJointEffect(e.kind)) continue;
+    std::vector<int> dofs;
+    if (e.target.empty()) {
+      for (int j = 0; j < num_dofs(); ++j) dofs.push_back(j);
+    } else {
+      dofs.push_back(dof_of(e));
+    }
+    for (int j : dofs) {
+      if (!seen.insert({static_cast<int>(e.kind), j}).second) {
+        throw std::invalid_argument("effect '" + e.text + "': " + std::string(ToString(e.kind)) + " on joint '" +
+                                    dof_names_[j] + "' is already in the list");
+      }
+      EffectTerm t;
+      t.kind = e.kind;
+      t.dof = j;
+      t.joint = dof_names_[j];
+      t.velocity_scale = e.velocity_scale;
+      t.first_parameter = num_parameters_;
+      t.first_feature = num_features_;
+      num_parameters_ += t.size();
+      num_features_ += t.size();
+      effects_.push_back(t);
+    }
+  }
+}
+
+std::vector<std::string> RobotDynamics::ParameterNames() const {
+  std::vector<std::string> names;
+  for (const EstimatedBody& b : bodies_) {
+    for (const char* n : kThetaNames) names.push_back(b.name + "." + n);
+  }
+  for (const EffectTerm& t : effects_) {
+    const std::string prefix = std::string(ToString(t.kind)) + "@" + t.joint + ".";
+    switch (t.kind) {
+      case EffectKind::kViscous: names.push_back(prefix + "log_b"); break;
+      case EffectKind::kCoulomb: names.push_back(prefix + "log_bc"); break;
+      case EffectKind::kOffset: names.push_back(prefix + "c"); break;
+      case EffectKind::kArmature: names.push_back(prefix + "log_Ia"); break;
+      case EffectKind::kSpring: names.push_back(prefix + "log_k"); names.push_back(prefix + "q0"); break;
+      default: break;
+    }
+  }
+  return names;
+}
+
+std::vector<std::string> RobotDynamics::FeatureNames() const {
+  std::vector<std::string> names;
+  for (int b = 0; b < tree_.num_bodies(); ++b) {
+    for (const char* n : kPiNames) names.push_back(tree_.body_name(b) + "." + n);
+  }
+  for (const EffectTerm& t : effects_) {
+    const std::string prefix = std::string(ToString(t.kind)) + "@" + t.joint + ".";
+    switch (t.kind) {
+      case EffectKind::kViscous: names.push_back(prefix + "b"); break;
+      case EffectKind::kCoulomb: names.push_back(prefix + "bc"); break;
+      case EffectKind::kOffset: names.push_back(prefix + "c"); break;
+      case EffectKind::kArmature: names.push_back(prefix + "Ia"); break;
+      case EffectKind::kSpring: names.push_back(prefix + "k"); names.push_back(prefix + "k_q0"); break;
+      default: break;
+    }
+  }
+  return names;
+}
+
+void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                             Eigen::Ref<Eigen::MatrixXd> A) const {
+  if (A.rows() != num_dofs() || A.cols() != num_features_) {
+    throw std::invalid_argument("robot dynamics: feature block must be " + std::to_string(num_dofs()) + " x " +
+                                std::to_string(num_features_));
+  }
+  A.leftCols(num_inertia_features()) = tree_.JointTorqueRegressor(q, qd, qdd, gravity_);
+  A.rightCols(num_features_ - num_inertia_features()).setZero();
+  for (const EffectTerm& t : effects_) {
+    const int j = t.dof, c = t.first_feature;
+    switch (t.kind) {
+      case EffectKind::kViscous: A(j, c) = qd[j]; break;
+      case EffectKind::kCoulomb: A(j, c) = std::tanh(qd[j] / t.velocity_scale); break;
+      case EffectKind::kOffset: A(j, c) = 1.0; break;
+      case EffectKind::kArmature: A(j, c) = qdd[j]; break;
+      case EffectKind::kSpring: A(j, c) = q[j]; A(j, c + 1) = -1.0; break;
+      default: break;
+    }
+  }
+}
+
+Eigen::VectorXd RobotDynamics::Coefficients(const Eigen::VectorXd& x, Eigen::MatrixXd* J_w_x) const {
+  if (x.size() != num_parameters_) {
+    throw std::invalid_argument("robot dynamics: " + std::to_string(x.size()) + " parameters given, " +
+                                std::to_string(num_parameters_) + " expected");
+  }
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(num_features_);
+  if (J_w_x != nullptr) J_w_x->setZero(num_features_, num_parameters_);
+  Matrix10 J;
+  for (size_t e = 0; e < bodies_.size(); ++e) {
+    const Vector10 theta = x.segment<10>(10 * e);
+    const int row = 10 * bodies_[e].tree_body;
+    w.segment<10>(row) += bodies_[e].map.ToPi(theta, J_w_x != nullptr ? &J : nullptr);
+    if (J_w_x != nullptr) J_w_x->block<10, 10>(row, 10 * e) = J;
+  }
+  for (const EffectTerm& t : effects_) {
+    const int p = t.first_parameter, f = t.first_feature;
+    if (t.kind == EffectKind::kOffset) {
+      w[f] = x[p];
+      if (J_w_x != nullptr) (*J_w_x)(f, p) = 1.0;
+    } else if (t.kind == EffectKind::kSpring) {
+      const double k = std::exp(x[p]);
+      w[f] = k;
+      w[f + 1] = k * x[p + 1];
+      if (J_w_x != nullptr) {
+        (*J_w_x)(f, p) = k;
+        (*J_w_x)(f + 1, p) = k * x[p + 1];
+        (*J_w_x)(f + 1, p + 1) = k;
+      }
+    } else {
+      w[f] = std::exp(x[p]);
+      if (J_w_x != nullptr) (*J_w_x)(f, p) = w[f];
+    }
+  }
+  return w;
+}
+
+Eigen::VectorXd RobotDynamics::InverseDynamics(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
+                                               const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) const {
+  Eigen::MatrixXd A(num_dofs(), num_features_);
+  Features(q, qd, qdd, A);
+  return A * Coefficients(x);
+}
+
+Eigen::VectorXd RobotDynamics::ParametersFromEffectCoefficients(const Eigen::VectorXd& c, double floor) const {
+  if (c.size() != num_features_ - num_inertia_features()) {
+    throw std::invalid_argument("robot dynamics: " + std::to_string(c.size()) + " effect coefficients given, " +
+                                std::to_string(num_features_ - num_inertia_features()) + " expected");
+  }
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(num_parameters_);
+  for (const EffectTerm& t : effects_) {
+    const int p = t.first_parameter, f = t.first_feature - num_inertia_features();
+    if (t.kind == EffectKind::kOffset) {
+      x[p] = c[f];
+    } else if (t.kind == EffectKind::kSpring) {
+      const double k = std::max(c[f], floor);
+      x[p] = std::log(k);
+      x[p + 1] = c[f + 1] / k;
+    } else if (NonNegative(t.kind)) {
+      x[p] = std::log(std::max(c[f], floor));
+    }
+  }
+  return x;
+}
+
+InertialParams RobotDynamics::BodyInertia(int e, const Eigen::VectorXd& x) const {
+  const EstimatedBody& b = bodies_.at(e);
+  const InertialParams in_body = InertialParams::FromVector(b.map.ToPi(x.segment<10>(10 * e)));
+  const Matrix3 R = b.report_frame.R_AB.transpose();
+  return in_body.Transformed(R, -(R * b.report_frame.p_AB));
+}
+
+std::vector<double> RobotDynamics::EffectValues(int k, const Eigen::VectorXd& x) const {
+  const EffectTerm& t = effects_.at(k);
+  const int p = t.first_parameter;
+  if (t.kind == EffectKind::kOffset) return {x[p]};
+  if (t.kind == EffectKind::kSpring) return {std::exp(x[p]), x[p + 1]};
+  return {std::exp(x[p])};
+}
+
+}  // namespace inertial
