@@ -1,0 +1,65 @@
+#include "inertial/estimation/dense_levenberg_marquardt.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace inertial {
+
+DenseLevenbergMarquardtResult MinimizeLevenbergMarquardt(const NormalEquationsFn& problem, const Eigen::VectorXd& x0,
+                                                         const LevenbergMarquardtOptions& options) {
+  if (!x0.allFinite()) throw std::invalid_argument("Levenberg-Marquardt: initial parameters are not finite");
+  DenseLevenbergMarquardtResult result;
+  Eigen::VectorXd x = x0, g;
+  Eigen::MatrixXd H;
+  double F = 0.0;
+  auto finish = [&](StopReason reason) {
+    result.x = x;
+    result.cost = F;
+    result.reason = reason;
+    return result;
+  };
+  if (!problem(x, &F, &g, &H) || !std::isfinite(F)) return finish(StopReason::kNumericalFailure);
+  result.initial_cost = F;
+  result.cost_history.push_back(F);
+  double lambda = options.initial_damping, nu = 2.0;
+  const double g0_norm = g.lpNorm<Eigen::Infinity>();
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    result.iterations = iteration;
+    if (!g.allFinite() || !H.allFinite()) return finish(StopReason::kNumericalFailure);
+    if (g.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance * std::max(1.0, g0_norm)) {
+      return finish(StopReason::kGradient);
+    }
+    const Eigen::VectorXd diag = H.diagonal().cwiseMax(1e-12 * std::max(H.diagonal().maxCoeff(), 1e-300));
+    while (true) {
+      Eigen::MatrixXd damped = H;
+      damped.diagonal() += lambda * diag;
+      const Eigen::VectorXd dx = damped.ldlt().solve(-g);
+      if (!dx.allFinite()) return finish(StopReason::kNumericalFailure);
+      if (dx.norm() <= options.step_tolerance * (options.step_tolerance + x.norm())) return finish(StopReason::kStep);
+      const Eigen::VectorXd x_trial = x + dx;
+      double F_trial = 0.0;
+      const bool ok = problem(x_trial, &F_trial, nullptr, nullptr) && std::isfinite(F_trial);
+      const double predicted = 0.5 * dx.dot(lambda * diag.cwiseProduct(dx) - g);
+      const double actual = F - F_trial;
+      if (ok && actual > 0.0) {
+        const double rho = predicted > 0.0 ? actual / predicted : 1.0;
+        lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+        nu = 2.0;
+        const double F_old = F;
+        x = x_trial;
+        if (!problem(x, &F, &g, &H)) return finish(StopReason::kNumericalFailure);
+        result.cost_history.push_back(F);
+        if (actual <= options.function_tolerance * F_old) return finish(StopReason::kFunction);
+        break;
+      }
+      lambda *= nu;
+      nu *= 2.0;
+      if (lambda > 1e16) return finish(StopReason::kNumericalFailure);
+    }
+  }
+  return finish(StopReason::kMaxIterations);
+}
+
+}  // namespace inertial

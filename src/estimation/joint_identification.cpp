@@ -1,0 +1,143 @@
+#include "inertial/estimation/joint_identification.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <stdexcept>
+
+#include "inertial/inertia/log_det_divergence.hpp"
+
+namespace inertial {
+namespace {
+
+void CheckSamples(const RobotDynamics& model, const JointSamples& data) {
+  const int n = model.num_dofs();
+  if (data.joint_names != model.dof_names()) {
+    throw std::invalid_argument("identification: the samples' joints are not the model's DOFs in order");
+  }
+  const int N = data.size();
+  if (data.q.rows() != N || data.qd.rows() != N || data.qdd.rows() != N || data.tau.rows() != N ||
+      data.q.cols() != n || data.qd.cols() != n || data.qdd.cols() != n || data.tau.cols() != n) {
+    throw std::invalid_argument("identification: sample arrays must be " + std::to_string(N) + " x " +
+                                std::to_string(n));
+  }
+}
+
+}  // namespace
+
+JointNormalEquations AccumulateNormalEquations(const RobotDynamics& model, const JointSamples& data) {
+  CheckSamples(model, data);
+  const int n = model.num_dofs(), F = model.num_features(), N = data.size();
+  constexpr int kChunk = 64;  // samples per block update of A^T A
+  JointNormalEquations eq;
+  eq.AtA = Eigen::MatrixXd::Zero(F, F);
+  eq.Atb = Eigen::VectorXd::Zero(F);
+  eq.num_samples = N;
+  Eigen::MatrixXd A(kChunk * n, F);
+  Eigen::VectorXd b(kChunk * n);
+  for (int start = 0; start < N; start += kChunk) {
+    const int count = std::min(kChunk, N - start);
+    for (int s = 0; s < count; ++s) {
+      const int j = start + s;
+      model.Features(data.q.row(j).transpose(), data.qd.row(j).transpose(), data.qdd.row(j).transpose(),
+                     A.middleRows(s * n, n));
+      b.segment(s * n, n) = data.tau.row(j).transpose();
+    }
+    const auto rows = A.topRows(count * n);
+    eq.AtA.selfadjointView<Eigen::Lower>().rankUpdate(rows.transpose());
+    eq.Atb.noalias() += rows.transpose() * b.head(count * n);
+    eq.btb += b.head(count * n).squaredNorm();
+  }
+  eq.AtA.triangularView<Eigen::StrictlyUpper>() = eq.AtA.transpose();
+  return eq;
+}
+
+JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
+                                             const JointIdentificationOptions& options) {
+  const int F = model.num_features(), P = model.num_parameters(), Fi = model.num_inertia_features();
+  if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
+    throw std::invalid_argument("identification: normal equations do not match the model's features");
+  }
+  if (!(options.prior_weight >= 0.0) || !std::isfinite(options.prior_weight)) {
+    throw std::invalid_argument("identification: the prior weight must be finite and non-negative");
+  }
+  JointIdentificationResult result;
+  // Start: priors; effects by linear least squares on the torque the priors leave unexplained.
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(P);
+  const int Fe = F - Fi;
+  if (Fe > 0) {
+    const Eigen::VectorXd w_prior = model.Coefficients(x0);
+    const Eigen::MatrixXd Aee = data.AtA.bottomRightCorner(Fe, Fe);
+    const Eigen::VectorXd rhs = data.Atb.tail(Fe) - data.AtA.bottomLeftCorner(Fe, Fi) * w_prior.head(Fi);
+    Eigen::MatrixXd damped = Aee;
+    damped.diagonal().array() += 1e-9 * (Aee.diagonal().maxCoeff() + 1e-300);
+    const Eigen::VectorXd c = damped.ldlt().solve(rhs);
+    x0 = model.ParametersFromEffectCoefficients(c.allFinite() ? c : Eigen::VectorXd::Zero(Fe).eval());
+  }
+  result.x_initial = x0;
+
+  const int B = static_cast<int>(model.bodies().size());
+  const double gamma = options.prior_weight;
+  Eigen::MatrixXd J_w;
+  Matrix10 J_r;
+  // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b): data through A^T A only.
+  auto problem = [&](const Eigen::VectorXd& x, double* cost, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
+    const bool derivatives = g != nullptr && H != nullptr;
+    const Eigen::VectorXd w = model.Coefficients(x, derivatives ? &J_w : nullptr);
+    const Eigen::VectorXd Hw = data.AtA * w;
+    const double data_sq = std::max(0.0, w.dot(Hw) - 2.0 * w.dot(data.Atb) + data.btb);
+    double reg = 0.0;
+    if (derivatives) {
+      const Eigen::VectorXd grad_w = Hw - data.Atb;
+      *g = J_w.transpose() * grad_w;
+      *H = J_w.transpose() * data.AtA * J_w;
+    }
+    for (int e = 0; e < B; ++e) {
+      const Vector10 r =
+          LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), derivatives ? &J_r : nullptr);
+      reg += r.squaredNorm();
+      if (derivatives) {
+        g->segment<10>(10 * e) += gamma * J_r.transpose() * r;
+        H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
+      }
+    }
+    *cost = 0.5 * (data_sq + gamma * reg);
+    return std::isfinite(*cost);
+  };
+  result.lm = MinimizeLevenbergMarquardt(problem, x0, options.lm);
+  result.x = result.lm.x;
+  const Eigen::VectorXd w = model.Coefficients(result.x);
+  result.data_cost = std::max(0.0, w.dot(data.AtA * w) - 2.0 * w.dot(data.Atb) + data.btb);
+  for (int e = 0; e < B; ++e) {
+    result.regularizer += LogDetDivergenceResiduals(model.bodies()[e].map, result.x.segment<10>(10 * e)).squaredNorm();
+  }
+  return result;
+}
+
+Eigen::MatrixXd PredictJointTorques(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data) {
+  CheckSamples(model, data);
+  const Eigen::VectorXd w = model.Coefficients(x);
+  Eigen::MatrixXd tau(data.size(), model.num_dofs());
+  Eigen::MatrixXd A(model.num_dofs(), model.num_features());
+  for (int j = 0; j < data.size(); ++j) {
+    model.Features(data.q.row(j).transpose(), data.qd.row(j).transpose(), data.qdd.row(j).transpose(), A);
+    tau.row(j) = (A * w).transpose();
+  }
+  return tau;
+}
+
+TorqueErrors CompareTorques(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& measured) {
+  if (predicted.rows() != measured.rows() || predicted.cols() != measured.cols() || measured.rows() == 0) {
+    throw std::invalid_argument("torque comparison: predicted and measured must have the same non-empty shape");
+  }
+  TorqueErrors e;
+  const double N = static_cast<double>(measured.rows());
+  const Eigen::MatrixXd err = predicted - measured;
+  e.rms = (err.colwise().squaredNorm() / N).cwiseSqrt().transpose();
+  const Eigen::VectorXd scale = (measured.colwise().squaredNorm() / N).cwiseSqrt().transpose();
+  e.relative_rms = e.rms.cwiseQuotient(scale.cwiseMax(1e-300));
+  e.total_rms = std::sqrt(err.squaredNorm() / err.size());
+  e.total_relative_rms = std::sqrt(err.squaredNorm() / std::max(measured.squaredNorm(), 1e-300));
+  return e;
+}
+
+}  // namespace inertial
