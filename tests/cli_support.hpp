@@ -1,0 +1,101 @@
+/// @file cli_support.hpp
+/// Running the built `inertial` CLI (INERTIAL_CLI) as a subprocess in end-to-end tests: no shell,
+/// stdin from a string, stdout and stderr through temporary files (no pipe deadlocks).
+#pragma once
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace inertial::testing {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;  ///< the exit status, or 128 + signal number if killed by a signal
+  std::string out;
+  std::string err;
+};
+
+inline std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+inline fs::path UniqueTempPath(const std::string& stem) {
+  static std::atomic<int> counter{0};
+  return fs::temp_directory_path() /
+         ("inertial_cli_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++) + "_" + stem);
+}
+
+// Runs INERTIAL_CLI with `args` (no shell), feeding `input` on stdin; stdout and stderr go to
+// temporary files (no pipe deadlocks), read back after the process ends.
+inline CliRun RunCli(const std::vector<std::string>& args, const std::string& input = "") {
+  CliRun run;
+  const char* cli = std::getenv("INERTIAL_CLI");
+  if (cli == nullptr) {
+    ADD_FAILURE() << "INERTIAL_CLI is not set";
+    return run;
+  }
+  const fs::path in_path = UniqueTempPath("stdin"), out_path = UniqueTempPath("stdout"),
+                 err_path = UniqueTempPath("stderr");
+  { std::ofstream(in_path, std::ios::binary) << input; }
+  std::vector<std::string> storage;
+  storage.push_back(cli);
+  storage.insert(storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& s : storage) argv.push_back(s.data());
+  argv.push_back(nullptr);
+
+  const pid_t pid = fork();
+  if (pid < 0) {
+    ADD_FAILURE() << "fork failed: " << std::strerror(errno);
+    return run;
+  }
+  if (pid == 0) {
+    const int in = open(in_path.c_str(), O_RDONLY);
+    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    if (in < 0 || out < 0 || err < 0) _exit(126);
+    if (dup2(in, 0) < 0 || dup2(out, 1) < 0 || dup2(err, 2) < 0) _exit(126);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      ADD_FAILURE() << "waitpid failed: " << std::strerror(errno);
+      break;
+    }
+  }
+  if (WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+  else if (WIFSIGNALED(status)) run.exit_code = 128 + WTERMSIG(status);
+  run.out = ReadFile(out_path);
+  run.err = ReadFile(err_path);
+  std::error_code ec;
+  fs::remove(in_path, ec);
+  fs::remove(out_path, ec);
+  fs::remove(err_path, ec);
+  return run;
+}
+
+inline std::string Describe(const CliRun& r) {
+  return "exit " + std::to_string(r.exit_code) + "\n--- stdout ---\n" + r.out + "--- stderr ---\n" + r.err;
+}
+
+inline bool Contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
+}
+
+}  // namespace inertial::testing
