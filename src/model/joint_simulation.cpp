@@ -1,0 +1,278 @@
+#include "inertial/model/joint_simulation.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace inertial {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+std::string Num(double x) { return std::to_string(x); }
+
+// The sample grid and the internal step derived from the options.
+struct Timing {
+  int num_samples = 0;
+  double sample_period = 0.0;
+  int steps_per_sample = 1;
+  double step = 0.0;
+};
+
+Timing CheckTiming(const JointSimulationOptions& options, bool integrating) {
+  if (!std::isfinite(options.start_time)) throw std::invalid_argument("joint simulation: start_time is not finite");
+  if (!std::isfinite(options.duration) || options.duration < 0.0) {
+    throw std::invalid_argument("joint simulation: duration must be finite and >= 0, got " + Num(options.duration));
+  }
+  if (!std::isfinite(options.sample_rate_hz) || options.sample_rate_hz <= 0.0) {
+    throw std::invalid_argument("joint simulation: sample_rate_hz must be positive and finite, got " +
+                                Num(options.sample_rate_hz));
+  }
+  const double intervals = std::floor(options.duration * options.sample_rate_hz + 1e-9);
+  if (intervals + 1.0 > static_cast<double>(std::numeric_limits<int>::max())) {
+    throw std::invalid_argument("joint simulation: duration * sample_rate_hz is too large");
+  }
+  Timing timing;
+  timing.num_samples = static_cast<int>(intervals) + 1;
+  timing.sample_period = 1.0 / options.sample_rate_hz;
+  if (integrating) {
+    if (!std::isfinite(options.internal_step) || options.internal_step <= 0.0) {
+      throw std::invalid_argument("joint simulation: internal_step must be positive and finite, got " +
+                                  Num(options.internal_step));
+    }
+    const double steps = std::ceil(timing.sample_period / options.internal_step - 1e-9);
+    if (steps > 1e9) throw std::invalid_argument("joint simulation: internal_step is too small for the sample rate");
+    timing.steps_per_sample = std::max(1, static_cast<int>(steps));
+  }
+  timing.step = timing.sample_period / timing.steps_per_sample;
+  return timing;
+}
+
+JointSamples Allocate(int num_samples, int n, const std::vector<std::string>& joint_names) {
+  if (!joint_names.empty() && static_cast<int>(joint_names.size()) != n) {
+    throw std::invalid_argument("joint simulation: " + std::to_string(joint_names.size()) + " joint names for " +
+                                std::to_string(n) + " joints");
+  }
+  JointSamples out;
+  out.joint_names = joint_names;
+  out.t.resize(num_samples);
+  out.q.resize(num_samples, n);
+  out.qd.resize(num_samples, n);
+  out.qdd.resize(num_samples, n);
+  out.tau.resize(num_samples, n);
+  return out;
+}
+
+void CheckPoint(const JointTrajectoryPoint& p, int n, double t) {
+  if (p.q.size() != n || p.qd.size() != n || p.qdd.size() != n) {
+    throw std::invalid_argument("reference at t = " + Num(t) + " s has sizes " + std::to_string(p.q.size()) + ", " +
+                                std::to_string(p.qd.size()) + ", " + std::to_string(p.qdd.size()) + " for " +
+                                std::to_string(n) + " joints");
+  }
+  if (!p.q.allFinite() || !p.qd.allFinite() || !p.qdd.allFinite()) {
+    throw std::invalid_argument("reference at t = " + Num(t) + " s is not finite");
+  }
+}
+
+Eigen::VectorXd Broadcast(const Eigen::VectorXd& gain, int n, const char* name) {
+  if (gain.size() != 1 && gain.size() != n) {
+    throw std::invalid_argument(std::string("joint simulation: ") + name + " must have 1 or " + std::to_string(n) +
+                                " entries, got " + std::to_string(gain.size()));
+  }
+  if (!gain.allFinite() || (gain.array() < 0.0).any()) {
+    throw std::invalid_argument(std::string("joint simulation: ") + name + " must be finite and >= 0");
+  }
+  return gain.size() == 1 ? Eigen::VectorXd::Constant(n, gain[0]) : gain;
+}
+
+// Zero-mean unit normal draws by Box-Muller from std::mt19937_64 (the same on every library).
+class NormalSource {
+ public:
+  explicit NormalSource(std::uint64_t seed) : gen_(seed) {}
+  double operator()() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    const double u1 = (static_cast<double>(gen_() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
+    const double u2 = static_cast<double>(gen_() >> 11) * 0x1.0p-53;          // [0, 1)
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    spare_ = r * std::sin(kTwoPi * u2);
+    has_spare_ = true;
+    return r * std::cos(kTwoPi * u2);
+  }
+
+ private:
+  std::mt19937_64 gen_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
+void AddNoise(double sigma, const char* name, NormalSource& normal, Eigen::MatrixXd* m) {
+  if (!std::isfinite(sigma) || sigma < 0.0) {
+    throw std::invalid_argument(std::string("noise: standard deviation of ") + name + " must be finite and >= 0, got " +
+                                Num(sigma));
+  }
+  for (Eigen::Index k = 0; k < m->size(); ++k) m->data()[k] += sigma * normal();
+}
+
+}  // namespace
+
+Eigen::VectorXd ForwardDynamics(const JointDynamicsFn& id, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                const Eigen::VectorXd& tau) {
+  const Eigen::Index n = q.size();
+  if (qd.size() != n || tau.size() != n) {
+    throw std::invalid_argument("forward dynamics: q, qd, tau have sizes " + std::to_string(n) + ", " +
+                                std::to_string(qd.size()) + ", " + std::to_string(tau.size()));
+  }
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd h = id(q, qd, e);
+  if (h.size() != n) {
+    throw std::invalid_argument("forward dynamics: inverse dynamics returned " + std::to_string(h.size()) +
+                                " torques for " + std::to_string(n) + " joints");
+  }
+  Eigen::MatrixXd M(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    e[k] = 1.0;
+    M.col(k) = id(q, qd, e) - h;
+    e[k] = 0.0;
+  }
+  if (!h.allFinite() || !M.allFinite()) {
+    throw std::invalid_argument("forward dynamics: inverse dynamics returned non-finite values at this state");
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M + M.transpose()));
+  if (llt.info() != Eigen::Success) {
+    throw std::invalid_argument("forward dynamics: the mass matrix (qdd coefficient of the inverse dynamics) is not "
+                                "positive definite");
+  }
+  return llt.solve(tau - h);
+}
+
+JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerFn& controller,
+                            const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
+                            const JointSimulationOptions& options, const std::vector<std::string>& joint_names) {
+  const int n = static_cast<int>(q_start.size());
+  if (n < 1 || qd_start.size() != n) {
+    throw std::invalid_argument("joint simulation: initial q and qd have sizes " + std::to_string(n) + " and " +
+                                std::to_string(qd_start.size()) + " (need equal and >= 1)");
+  }
+  if (!q_start.allFinite() || !qd_start.allFinite()) {
+    throw std::invalid_argument("joint simulation: initial state is not finite");
+  }
+  const Timing timing = CheckTiming(options, true);
+  JointSamples out = Allocate(timing.num_samples, n, joint_names);
+  const double h = timing.step;
+
+  auto command = [&](double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    Eigen::VectorXd tau = controller(t, q, qd);
+    if (tau.size() != n) {
+      throw std::invalid_argument("controller returned " + std::to_string(tau.size()) + " torques for " +
+                                  std::to_string(n) + " joints");
+    }
+    if (!tau.allFinite()) throw std::invalid_argument("torque command is not finite");
+    return tau;
+  };
+
+  Eigen::VectorXd q = q_start, qd = qd_start;
+  double t = options.start_time;
+  try {
+    for (int i = 0; i < timing.num_samples; ++i) {
+      const double t_i = options.start_time + i * timing.sample_period;
+      const int steps = i + 1 < timing.num_samples ? timing.steps_per_sample : 0;
+      t = t_i;
+      Eigen::VectorXd tau = command(t, q, qd);
+      Eigen::VectorXd qdd = ForwardDynamics(plant, q, qd, tau);
+      out.t[i] = t_i;
+      out.q.row(i) = q.transpose();
+      out.qd.row(i) = qd.transpose();
+      out.qdd.row(i) = qdd.transpose();
+      out.tau.row(i) = tau.transpose();
+      for (int s = 0; s < steps; ++s) {
+        if (s > 0) {
+          t = t_i + s * h;
+          tau = command(t, q, qd);
+          qdd = ForwardDynamics(plant, q, qd, tau);
+        }
+        // Classical RK4 on (q, qd) with tau held: k1 = (qd, qdd).
+        const Eigen::VectorXd v2 = qd + 0.5 * h * qdd;
+        const Eigen::VectorXd a2 = ForwardDynamics(plant, q + 0.5 * h * qd, v2, tau);
+        const Eigen::VectorXd v3 = qd + 0.5 * h * a2;
+        const Eigen::VectorXd a3 = ForwardDynamics(plant, q + 0.5 * h * v2, v3, tau);
+        const Eigen::VectorXd v4 = qd + h * a3;
+        const Eigen::VectorXd a4 = ForwardDynamics(plant, q + h * v3, v4, tau);
+        q += (h / 6.0) * (qd + 2.0 * v2 + 2.0 * v3 + v4);
+        qd += (h / 6.0) * (qdd + 2.0 * a2 + 2.0 * a3 + a4);
+        if (!q.allFinite() || !qd.allFinite()) {
+          throw std::invalid_argument("the state (q, qd) became non-finite in the step of " + Num(h) + " s");
+        }
+      }
+    }
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("joint simulation at t = " + Num(t) + " s: " + e.what());
+  }
+  return out;
+}
+
+JointSamples SimulateTracking(const JointDynamicsFn& plant, const JointDynamicsFn& nominal,
+                              const JointReferenceFn& reference, const JointSimulationOptions& options,
+                              const std::vector<std::string>& joint_names) {
+  CheckTiming(options, true);  // option errors before anything is evaluated
+  const JointTrajectoryPoint start = reference(options.start_time);
+  const int n = static_cast<int>(start.q.size());
+  if (n < 1) throw std::invalid_argument("joint simulation: the reference has no joints");
+  CheckPoint(start, n, options.start_time);
+  const Eigen::VectorXd kp = Broadcast(options.kp, n, "kp");
+  const Eigen::VectorXd kd = Broadcast(options.kd, n, "kd");
+  auto controller = [&](double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) -> Eigen::VectorXd {
+    const JointTrajectoryPoint ref = reference(t);
+    CheckPoint(ref, n, t);
+    const Eigen::VectorXd ff = nominal(ref.q, ref.qd, ref.qdd);
+    if (ff.size() != n) {
+      throw std::invalid_argument("nominal model returned " + std::to_string(ff.size()) + " torques for " +
+                                  std::to_string(n) + " joints");
+    }
+    return ff + kp.cwiseProduct(ref.q - q) + kd.cwiseProduct(ref.qd - qd);
+  };
+  return SimulateJoints(plant, controller, start.q, start.qd, options, joint_names);
+}
+
+JointSamples SampleTrajectory(const JointDynamicsFn& id, const JointReferenceFn& reference,
+                              const JointSimulationOptions& options, const std::vector<std::string>& joint_names) {
+  const Timing timing = CheckTiming(options, false);
+  const JointTrajectoryPoint first = reference(options.start_time);
+  const int n = static_cast<int>(first.q.size());
+  if (n < 1) throw std::invalid_argument("sample trajectory: the reference has no joints");
+  JointSamples out = Allocate(timing.num_samples, n, joint_names);
+  for (int i = 0; i < timing.num_samples; ++i) {
+    const double t = options.start_time + i * timing.sample_period;
+    const JointTrajectoryPoint p = i == 0 ? first : reference(t);
+    CheckPoint(p, n, t);
+    const Eigen::VectorXd tau = id(p.q, p.qd, p.qdd);
+    if (tau.size() != n) {
+      throw std::invalid_argument("sample trajectory: inverse dynamics returned " + std::to_string(tau.size()) +
+                                  " torques for " + std::to_string(n) + " joints");
+    }
+    out.t[i] = t;
+    out.q.row(i) = p.q.transpose();
+    out.qd.row(i) = p.qd.transpose();
+    out.qdd.row(i) = p.qdd.transpose();
+    out.tau.row(i) = tau.transpose();
+  }
+  return out;
+}
+
+JointSamples AddGaussianNoise(const JointSamples& samples, const SampleNoise& sigma, std::uint64_t seed) {
+  JointSamples out = samples;
+  NormalSource normal(seed);
+  AddNoise(sigma.q, "q", normal, &out.q);
+  AddNoise(sigma.qd, "qd", normal, &out.qd);
+  AddNoise(sigma.qdd, "qdd", normal, &out.qdd);
+  AddNoise(sigma.tau, "tau", normal, &out.tau);
+  return out;
+}
+
+}  // namespace inertial

@@ -1,0 +1,421 @@
+#include "inertial/model/joint_simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/model/fourier_trajectory.hpp"
+#include "inertial/model/kinematic_tree.hpp"
+#include "test_support.hpp"
+
+namespace inertial {
+namespace {
+
+using testing::Rng;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A random branched tree of 7 bodies (revolute and prismatic joints with random unit axes, one
+// fixed joint, random origins and random consistent inertias) and a geared rotor on the base
+// driving the first joint: 6 DOFs.
+KinematicTree RandomTree(Rng& rng) {
+  KinematicTree tree;
+  const int parents[7] = {-1, 0, 1, 1, 3, 0, 5};
+  for (int i = 0; i < 7; ++i) {
+    JointModel j;
+    j.name = "j" + std::to_string(i);
+    j.type = i == 4 ? JointType::kFixed : (i == 2 || i == 6 ? JointType::kPrismatic : JointType::kRevolute);
+    j.R_parent_joint = rng.Rotation();
+    j.p_parent_joint = rng.UniformVector<3>(-0.4, 0.4);
+    j.axis = rng.UniformVector<3>(-1, 1).normalized();
+    const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.2, 3.0), rng.UniformVector<3>(0.001, 0.05),
+                                                      Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)});
+    tree.AddBody("b" + std::to_string(i), parents[i], j, body);
+  }
+  JointModel r;
+  r.name = "rotor_of_b0";
+  r.R_parent_joint = rng.Rotation();
+  r.axis = rng.UniformVector<3>(-1, 1).normalized();
+  tree.AddRotor(r.name, -1, r,
+                BodyFromSecondMoments(0.3, rng.UniformVector<3>(1e-5, 1e-4),
+                                      Pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)}),
+                0, 8.0);
+  return tree;
+}
+
+Eigen::VectorXd RandomVector(Rng& rng, int n, double lo, double hi) {
+  return Eigen::VectorXd::NullaryExpr(n, [&] { return rng.Uniform(lo, hi); });
+}
+
+JointDynamicsFn TreeDynamics(const KinematicTree& tree, const Vector3& g) {
+  return [&tree, g](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return tree.InverseDynamics(q, qd, qdd, g);
+  };
+}
+
+JointReferenceFn Reference(const FourierTrajectory& traj) {
+  return [&traj](double t) { return traj.Evaluate(t); };
+}
+
+const JointControllerFn kPassive = [](double, const Eigen::VectorXd& q, const Eigen::VectorXd&) {
+  return Eigen::VectorXd::Zero(q.size()).eval();
+};
+
+// T + V of every body (rotors included): T = sum 0.5 v^T M v, V = -sum m g . c.
+double TotalEnergy(const KinematicTree& tree, const Vector3& g, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  const std::vector<Vector6> v = tree.BodyVelocities(q, qd);
+  const std::vector<SpatialTransform> pose = tree.BodyPoses(q);
+  double E = 0.0;
+  for (int i = 0; i < tree.num_bodies(); ++i) {
+    const InertialParams& I = tree.inertia(i);
+    E += 0.5 * v[i].dot(I.spatial_inertia() * v[i]);
+    E -= I.mass() * g.dot(pose[i].p_AB + pose[i].R_AB * I.com());
+  }
+  return E;
+}
+
+// A passive three-link spatial pendulum with a geared rotor on the first joint, gravity -z.
+KinematicTree ThreeLinkPendulum() {
+  KinematicTree tree;
+  const Vector3 axes[3] = {Vector3::UnitX(), Vector3(0, 0.6, 0.8), Vector3::UnitY()};
+  int parent = -1;
+  for (int i = 0; i < 3; ++i) {
+    JointModel j;
+    j.name = "j" + std::to_string(i);
+    j.p_parent_joint = i == 0 ? Vector3::Zero() : Vector3(0, 0, -0.3);
+    j.axis = axes[i];
+    parent = tree.AddBody("l" + std::to_string(i), parent, j,
+                          SolidBox(1.0 - 0.2 * i, 0.04, 0.05, 0.3, Pose{Matrix3::Identity(), Vector3(0.02, 0, -0.15)}));
+  }
+  JointModel r;
+  r.name = "rotor";
+  r.axis = Vector3::UnitX();
+  tree.AddRotor("rotor", -1, r, SolidCylinder(0.2, 0.02, 0.02, Pose{Eigen::AngleAxisd(kPi / 2, Vector3::UnitY())
+                                                                        .toRotationMatrix(),
+                                                                    Vector3::Zero()}),
+                0, 5.0);
+  return tree;
+}
+
+// (a) Forward dynamics inverts the recursive Newton-Euler inverse dynamics, with joint effects
+// (viscous friction, armature) added to the rigid bodies.
+TEST(JointSimulation, ForwardDynamicsInvertsInverseDynamics) {
+  Rng rng(11);
+  for (int trial = 0; trial < 50; ++trial) {
+    const KinematicTree tree = RandomTree(rng);
+    const int n = tree.num_dofs();
+    ASSERT_EQ(n, 6);
+    const Vector3 g = rng.UniformVector<3>(-10, 10);
+    const Eigen::VectorXd b = RandomVector(rng, n, 0.0, 2.0), Ia = RandomVector(rng, n, 0.0, 0.1);
+    const JointDynamicsFn id = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+      return (tree.InverseDynamics(q, qd, qdd, g) + b.cwiseProduct(qd) + Ia.cwiseProduct(qdd)).eval();
+    };
+    const Eigen::VectorXd q = RandomVector(rng, n, -3, 3), qd = RandomVector(rng, n, -3, 3),
+                          qdd = RandomVector(rng, n, -3, 3);
+    const Eigen::VectorXd tau = id(q, qd, qdd);
+    const Eigen::VectorXd qdd_fd = ForwardDynamics(id, q, qd, tau);
+    EXPECT_LT((qdd_fd - qdd).cwiseAbs().maxCoeff(), 1e-9) << qdd_fd.transpose() << "\n" << qdd.transpose();
+  }
+}
+
+// (b) Passive motion conserves T + V up to the integrator's error, which shrinks as h^4 (RK4).
+TEST(JointSimulation, PassivePendulumConservesEnergyToFourthOrder) {
+  const KinematicTree tree = ThreeLinkPendulum();
+  const Vector3 g(0, 0, -9.81);
+  const Eigen::Vector3d q0(1.2, -0.7, 2.0), qd0(0.5, 1.0, -2.0);
+  const double E0 = TotalEnergy(tree, g, q0, qd0);
+  const double scale = 1.0 * 9.81 * 0.9;  // m g L, the energy scale of the motion [J]
+  auto max_energy_error = [&](double step) {
+    JointSimulationOptions options;
+    options.duration = 5.0;
+    options.sample_rate_hz = 100.0;
+    options.internal_step = step;
+    const JointSamples s = SimulateJoints(TreeDynamics(tree, g), kPassive, q0, qd0, options);
+    EXPECT_EQ(s.size(), 501);
+    double err = 0.0;
+    for (int i = 0; i < s.size(); ++i) {
+      err = std::max(err, std::abs(TotalEnergy(tree, g, s.q.row(i).transpose(), s.qd.row(i).transpose()) - E0));
+    }
+    return err / scale;
+  };
+  const double e_fine = max_energy_error(2e-4), e_coarse = max_energy_error(2e-3), e_half = max_energy_error(1e-3);
+  std::cout << "relative energy error: h = 2 ms " << e_coarse << ", 1 ms " << e_half << ", 0.2 ms " << e_fine << "\n";
+  EXPECT_LT(e_fine, 1e-8);
+  // Halving the step divides the error by about 2^4.
+  EXPECT_GT(e_coarse / e_half, 10.0);
+  EXPECT_LT(e_coarse / e_half, 24.0);
+}
+
+// (c) Small oscillations of a pendulum (sphere of mass m, radius r at distance l, plus a geared
+// rotor of axial inertia Ir, ratio N) have the period 2 pi sqrt(I / (m g l)) (1 + theta0^2 / 16 + ...)
+// with I = 2/5 m r^2 + m l^2 + N^2 Ir.
+TEST(JointSimulation, SmallAnglePendulumPeriod) {
+  const double m = 1.3, r = 0.05, l = 0.7, g = 9.81, N = 7.0, theta0 = 0.05;
+  KinematicTree tree;
+  JointModel j;
+  j.name = "pivot";
+  tree.AddBody("bob", -1, j, SolidSphere(m, r, Pose{Matrix3::Identity(), Vector3(l, 0, 0)}));
+  j.name = "rotor";
+  tree.AddRotor("rotor", -1, j, SolidCylinder(0.2, 0.03, 0.02), 0, N);
+  const double I = 0.4 * m * r * r + m * l * l + N * N * 0.5 * 0.2 * 0.03 * 0.03;
+  const double period = 2 * kPi * std::sqrt(I / (m * g * l)) * (1 + theta0 * theta0 / 16);
+
+  JointSimulationOptions options;
+  options.duration = 6 * period;
+  const Eigen::VectorXd q_start = Eigen::VectorXd::Constant(1, -kPi / 2 + theta0);  // hanging at -pi/2
+  const JointSamples s =
+      SimulateJoints(TreeDynamics(tree, Vector3(0, -g, 0)), kPassive, q_start, Eigen::VectorXd::Zero(1), options);
+  // Upward zero crossings of q + pi/2, linearly interpolated.
+  std::vector<double> crossings;
+  for (int i = 1; i < s.size(); ++i) {
+    const double a = s.q(i - 1, 0) + kPi / 2, b = s.q(i, 0) + kPi / 2;
+    if (a < 0 && b >= 0) crossings.push_back(s.t[i - 1] + (s.t[i] - s.t[i - 1]) * a / (a - b));
+  }
+  ASSERT_GE(crossings.size(), 5u);
+  const double measured = (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  EXPECT_NEAR(measured / period, 1.0, 1e-6) << measured << " vs " << period;
+  // Amplitude is kept (no numerical damping to speak of).
+  EXPECT_NEAR(s.q.col(0).maxCoeff(), -kPi / 2 + theta0, 1e-6);
+}
+
+// (d) With the true model as feedforward, the plant follows the reference up to the zero-order
+// hold; with an approximate model (masses 20 % off, no friction), feedback keeps errors small.
+// At every sample, the plant's dynamics hold exactly: id(q, qd, qdd) = tau.
+TEST(JointSimulation, TrackingFollowsTheReference) {
+  Rng rng(5);
+  const KinematicTree tree = RandomTree(rng);
+  const int n = tree.num_dofs();
+  const Vector3 g(0, 0, -9.81);
+  const Eigen::VectorXd b = RandomVector(rng, n, 0.1, 1.0);
+  const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return (tree.InverseDynamics(q, qd, qdd, g) + b.cwiseProduct(qd)).eval();
+  };
+  KinematicTree wrong;
+  for (int i = 0; i < tree.num_bodies(); ++i) {
+    const InertialParams body = InertialParams::FromVector(0.8 * tree.inertia(i).vector());
+    if (tree.is_rotor(i)) {
+      wrong.AddRotor(tree.body_name(i), tree.parent(i), tree.joint(i), body, tree.dof_index(i), tree.gear_ratio(i));
+    } else {
+      wrong.AddBody(tree.body_name(i), tree.parent(i), tree.joint(i), body);
+    }
+  }
+  const FourierTrajectory traj = RandomFourierTrajectory(n, 5, 0.2, 0.5, 42);
+  JointSimulationOptions options;
+  options.duration = 5.0;
+  options.kp = Eigen::VectorXd::Constant(n, 400.0);
+  options.kd = Eigen::VectorXd::Constant(n, 40.0);
+  const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f"};
+
+  auto tracking_errors = [&](const JointSamples& s) {
+    double eq = 0, ev = 0;
+    for (int i = 0; i < s.size(); ++i) {
+      const JointTrajectoryPoint ref = traj.Evaluate(s.t[i]);
+      eq = std::max(eq, (s.q.row(i).transpose() - ref.q).cwiseAbs().maxCoeff());
+      ev = std::max(ev, (s.qd.row(i).transpose() - ref.qd).cwiseAbs().maxCoeff());
+      const Eigen::VectorXd tau = plant(s.q.row(i).transpose(), s.qd.row(i).transpose(), s.qdd.row(i).transpose());
+      EXPECT_LT((tau - s.tau.row(i).transpose()).cwiseAbs().maxCoeff(), 1e-9) << "t = " << s.t[i];
+    }
+    return std::pair{eq, ev};
+  };
+
+  const JointSamples exact = SimulateTracking(plant, plant, Reference(traj), options, names);
+  ASSERT_EQ(exact.size(), 5001);
+  EXPECT_EQ(exact.joint_names, names);
+  EXPECT_NEAR(exact.t[5000], 5.0, 1e-12);
+  const auto [eq_exact, ev_exact] = tracking_errors(exact);
+  const JointSamples approx =
+      SimulateTracking(plant, TreeDynamics(wrong, g), Reference(traj), options, names);
+  const auto [eq_approx, ev_approx] = tracking_errors(approx);
+  std::cout << "max tracking error, true model: " << eq_exact << " (q), " << ev_exact
+            << " (qd); approximate model: " << eq_approx << " (q), " << ev_approx << " (qd)\n";
+  EXPECT_LT(eq_exact, 1e-4);
+  EXPECT_LT(ev_exact, 1e-2);
+  EXPECT_LT(eq_approx, 0.05);
+  EXPECT_GT(eq_approx, 10 * eq_exact);  // the model error shows, as it should
+}
+
+// (e) The Fourier trajectory's closed-form derivatives match central differences; the amplitude
+// bound holds, the series is periodic, and the random factory is deterministic for a seed.
+TEST(FourierTrajectory, DerivativesBoundPeriodAndSeed) {
+  const double amplitude = 0.8;
+  FourierTrajectory traj = RandomFourierTrajectory(4, 5, 0.25, amplitude, 7);
+  traj.q0 = Eigen::Vector4d(0.1, -0.2, 0.3, 1.0);
+  ASSERT_EQ(traj.num_joints(), 4);
+  ASSERT_EQ(traj.num_harmonics(), 5);
+  EXPECT_LT((traj.AmplitudeBound() - Eigen::VectorXd::Constant(4, amplitude)).cwiseAbs().maxCoeff(), 1e-12);
+  const double dt = 1e-5;
+  double max_dev = 0.0;
+  for (int i = 0; i <= 4000; ++i) {
+    const double t = i * traj.period() / 4000;
+    const JointTrajectoryPoint p = traj.Evaluate(t), plus = traj.Evaluate(t + dt), minus = traj.Evaluate(t - dt);
+    EXPECT_LT(((plus.q - minus.q) / (2 * dt) - p.qd).cwiseAbs().maxCoeff(), 1e-7);
+    EXPECT_LT(((plus.qd - minus.qd) / (2 * dt) - p.qdd).cwiseAbs().maxCoeff(), 1e-6);
+    max_dev = std::max(max_dev, (p.q - traj.q0).cwiseAbs().maxCoeff());
+    const JointTrajectoryPoint later = traj.Evaluate(t + 3 * traj.period());
+    EXPECT_LT((later.q - p.q).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LT((later.qdd - p.qdd).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  EXPECT_LE(max_dev, amplitude);
+  EXPECT_GT(max_dev, 0.3 * amplitude);  // the bound is not vacuous
+
+  const FourierTrajectory again = RandomFourierTrajectory(4, 5, 0.25, amplitude, 7);
+  const FourierTrajectory other = RandomFourierTrajectory(4, 5, 0.25, amplitude, 8);
+  EXPECT_EQ(again.a, RandomFourierTrajectory(4, 5, 0.25, amplitude, 7).a);
+  EXPECT_EQ(again.b, traj.b);
+  EXPECT_GT((other.a - again.a).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+// A single harmonic in closed form: q = q0 + a/w sin(w t) - b/w cos(w t).
+TEST(FourierTrajectory, SingleHarmonicClosedForm) {
+  FourierTrajectory traj;
+  traj.base_frequency_hz = 0.5;
+  traj.q0 = Eigen::VectorXd::Constant(1, 0.3);
+  traj.a = Eigen::MatrixXd::Constant(1, 1, 2.0);
+  traj.b = Eigen::MatrixXd::Constant(1, 1, -1.0);
+  const double w = kPi, t = 0.37;
+  const JointTrajectoryPoint p = traj.Evaluate(t);
+  EXPECT_NEAR(p.q[0], 0.3 + 2.0 / w * std::sin(w * t) + 1.0 / w * std::cos(w * t), 1e-15);
+  EXPECT_NEAR(p.qd[0], 2.0 * std::cos(w * t) - std::sin(w * t), 1e-15);
+  EXPECT_NEAR(p.qdd[0], -2.0 * w * std::sin(w * t) - w * std::cos(w * t), 1e-14);
+  EXPECT_NEAR(traj.AmplitudeBound()[0], std::sqrt(5.0) / w, 1e-15);
+}
+
+// Inverse-dynamics data lie exactly on the reference with tau = id(q_ref, qd_ref, qdd_ref).
+TEST(JointSimulation, SampleTrajectoryIsTheReference) {
+  Rng rng(3);
+  const KinematicTree tree = RandomTree(rng);
+  const FourierTrajectory traj = RandomFourierTrajectory(tree.num_dofs(), 3, 0.1, 0.5, 1);
+  JointSimulationOptions options;
+  options.start_time = 1.0;
+  options.duration = 2.0;
+  options.sample_rate_hz = 200.0;
+  const JointDynamicsFn id = TreeDynamics(tree, Vector3(0, 0, -9.81));
+  const JointSamples s = SampleTrajectory(id, Reference(traj), options);
+  ASSERT_EQ(s.size(), 401);
+  EXPECT_TRUE(s.joint_names.empty());
+  for (int i : {0, 123, 400}) {
+    EXPECT_NEAR(s.t[i], 1.0 + i / 200.0, 1e-12);
+    const JointTrajectoryPoint p = traj.Evaluate(s.t[i]);
+    EXPECT_EQ(s.q.row(i).transpose(), p.q);
+    EXPECT_EQ(s.qdd.row(i).transpose(), p.qdd);
+    EXPECT_EQ(s.tau.row(i).transpose(), id(p.q, p.qd, p.qdd));
+  }
+}
+
+// Noise has the requested standard deviations, zero mean, and is reproducible from its seed.
+TEST(JointSimulation, GaussianNoiseStatisticsAndSeed) {
+  JointSamples clean;
+  const int N = 20000, n = 3;
+  clean.joint_names = {"x", "y", "z"};
+  clean.t = Eigen::VectorXd::LinSpaced(N, 0.0, 1.0);
+  clean.q = clean.qd = clean.qdd = clean.tau = Eigen::MatrixXd::Constant(N, n, 2.0);
+  const SampleNoise sigma{1e-3, 0.01, 0.5, 0.0};
+  const JointSamples noisy = AddGaussianNoise(clean, sigma, 99);
+  auto check = [&](const Eigen::MatrixXd& m, double sd) {
+    const Eigen::ArrayXXd e = (m.array() - 2.0);
+    const double mean = e.mean(), std_dev = std::sqrt((e - mean).square().mean());
+    // Sample mean and standard deviation of N n draws: 4-sigma bands.
+    EXPECT_LT(std::abs(mean), 4 * sd / std::sqrt(double(N * n)) + 1e-300);
+    EXPECT_NEAR(std_dev, sd, 4 * sd / std::sqrt(2.0 * N * n) + 1e-300);
+  };
+  check(noisy.q, sigma.q);
+  check(noisy.qd, sigma.qd);
+  check(noisy.qdd, sigma.qdd);
+  EXPECT_EQ(noisy.tau, clean.tau);
+  EXPECT_EQ(noisy.t, clean.t);
+  EXPECT_EQ(noisy.joint_names, clean.joint_names);
+  EXPECT_EQ(AddGaussianNoise(clean, sigma, 99).qdd, noisy.qdd);
+  EXPECT_NE(AddGaussianNoise(clean, sigma, 100).qdd, noisy.qdd);
+}
+
+// (f) Errors: bad options and sizes, a singular mass matrix, a diverging state.
+TEST(JointSimulation, RejectsBadInput) {
+  const JointDynamicsFn unit_mass = [](const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
+    return qdd;
+  };
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(1), two = Eigen::VectorXd::Ones(2);
+  EXPECT_THROW(ForwardDynamics(unit_mass, one, two, one), std::invalid_argument);
+  const JointDynamicsFn massless = [](const Eigen::VectorXd& q, const Eigen::VectorXd&, const Eigen::VectorXd&) {
+    return Eigen::VectorXd::Zero(q.size()).eval();
+  };
+  EXPECT_THROW(ForwardDynamics(massless, one, one, one), std::invalid_argument);
+  const JointDynamicsFn wrong_size = [](const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd&) {
+    return Eigen::VectorXd::Ones(3).eval();
+  };
+  EXPECT_THROW(ForwardDynamics(wrong_size, one, one, one), std::invalid_argument);
+
+  JointSimulationOptions ok;
+  ok.duration = 0.01;
+  EXPECT_EQ(SimulateJoints(unit_mass, kPassive, one, one, ok).size(), 11);
+  for (auto bad : {+[](JointSimulationOptions& o) { o.internal_step = 0.0; },
+                   +[](JointSimulationOptions& o) { o.internal_step = -1e-3; },
+                   +[](JointSimulationOptions& o) { o.sample_rate_hz = 0.0; },
+                   +[](JointSimulationOptions& o) { o.duration = -1.0; },
+                   +[](JointSimulationOptions& o) { o.start_time = kNaN; }}) {
+    JointSimulationOptions options = ok;
+    bad(options);
+    EXPECT_THROW(SimulateJoints(unit_mass, kPassive, one, one, options), std::invalid_argument);
+  }
+  EXPECT_THROW(SimulateJoints(unit_mass, kPassive, one, two, ok), std::invalid_argument);
+  EXPECT_THROW(SimulateJoints(unit_mass, kPassive, one, one, ok, {"a", "b"}), std::invalid_argument);
+
+  const FourierTrajectory traj = RandomFourierTrajectory(2, 2, 1.0, 0.1, 0);
+  JointSimulationOptions gains = ok;
+  gains.kp = Eigen::VectorXd::Ones(3);
+  EXPECT_THROW(SimulateTracking(unit_mass, unit_mass, Reference(traj), gains), std::invalid_argument);
+  gains.kp = -Eigen::VectorXd::Ones(1);
+  EXPECT_THROW(SimulateTracking(unit_mass, unit_mass, Reference(traj), gains), std::invalid_argument);
+  EXPECT_NO_THROW(SimulateTracking(unit_mass, unit_mass, Reference(traj), ok));
+
+  // The error names the simulation time: qdd = 10 qd^2 from qd = 1 blows up at t = 0.1 s; a plant
+  // whose model is undefined beyond q = 1.5 (NaN) is left at t = 0.5 s.
+  auto error_time = [&](const JointDynamicsFn& plant, const std::string& expected_words) {
+    JointSimulationOptions longer = ok;
+    longer.duration = 1.0;
+    try {
+      SimulateJoints(plant, kPassive, one, one, longer);
+      ADD_FAILURE() << "no exception";
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(expected_words), std::string::npos) << what;
+      const std::size_t at = what.find("t = ");
+      if (at != std::string::npos) return std::stod(what.substr(at + 4));
+      ADD_FAILURE() << what;
+    }
+    return kNaN;
+  };
+  const JointDynamicsFn blow_up = [](const Eigen::VectorXd&, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return (qdd - 10.0 * qd.cwiseProduct(qd)).eval();
+  };
+  EXPECT_NEAR(error_time(blow_up, "joint simulation"), 0.1, 1e-3);
+  const JointDynamicsFn undefined = [](const Eigen::VectorXd& q, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
+    return (qdd + 0.0 * (1.5 - q.array()).sqrt().matrix()).eval();
+  };
+  EXPECT_NEAR(error_time(undefined, "non-finite"), 0.5, 1e-3);
+
+  EXPECT_THROW(AddGaussianNoise(JointSamples(), SampleNoise{-1.0, 0, 0, 0}, 1), std::invalid_argument);
+  EXPECT_THROW(AddGaussianNoise(JointSamples(), SampleNoise{0, 0, 0, kNaN}, 1), std::invalid_argument);
+
+  FourierTrajectory bad = traj;
+  bad.b = Eigen::MatrixXd::Zero(2, 3);
+  EXPECT_THROW(bad.Evaluate(0.0), std::invalid_argument);
+  bad = traj;
+  bad.base_frequency_hz = 0.0;
+  EXPECT_THROW(bad.Evaluate(0.0), std::invalid_argument);
+  EXPECT_THROW(traj.Evaluate(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(RandomFourierTrajectory(0, 3, 1.0, 0.1, 0), std::invalid_argument);
+  EXPECT_THROW(RandomFourierTrajectory(2, 0, 1.0, 0.1, 0), std::invalid_argument);
+  EXPECT_THROW(RandomFourierTrajectory(2, 3, -1.0, 0.1, 0), std::invalid_argument);
+  EXPECT_THROW(RandomFourierTrajectory(2, 3, 1.0, 0.0, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace inertial
