@@ -1,0 +1,479 @@
+#include "inertial/io/joint_csv.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string_view>
+#include <tuple>
+#include <unordered_map>
+
+#include "inertial/io/number_parsing.hpp"
+
+namespace inertial {
+namespace {
+
+constexpr int kListedBadLines = 5;  // line numbers named in the skipped-rows notice
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+bool IsBlank(std::string_view s) { return s.find_first_not_of(" \t\r\n") == std::string_view::npos; }
+
+std::string ShortestText(double value) {
+  char buffer[32];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, r.ptr);
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out;
+  for (std::size_t k = 0; k < items.size(); ++k) out += (k ? ", " : "") + items[k];
+  return out;
+}
+
+/// Splits the text into lines ('\n'; a trailing '\r' is dropped by Trim), keeping 1-based numbers.
+class LineReader {
+ public:
+  explicit LineReader(std::string_view text) : text_(text) {}
+  bool Next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    const std::size_t end = text_.find('\n', pos_);
+    const std::size_t stop = end == std::string_view::npos ? text_.size() : end;
+    line = text_.substr(pos_, stop - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = stop + 1;
+    ++number_;
+    return true;
+  }
+  int number() const { return number_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  int number_ = 0;
+};
+
+void SplitCells(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    if (comma == std::string_view::npos) {
+      cells.push_back(Trim(line.substr(start)));
+      return;
+    }
+    cells.push_back(Trim(line.substr(start, comma - start)));
+    start = comma + 1;
+  }
+}
+
+/// What a used column feeds: the time or one joint's q, qd, qdd or tau.
+enum class Kind { kTime, kQ, kQd, kQdd, kTau };
+
+struct UsedColumn {
+  int column = 0;  // 0-based in the header
+  Kind kind = Kind::kTime;
+  int joint = 0;
+};
+
+class Parser {
+ public:
+  Parser(const std::string& source, const std::vector<std::string>& joints, const JointCsvOptions& options, JointCsvReport& report)
+      : source_(source), joints_(joints), options_(options), report_(report) {}
+
+  JointSamples Parse(std::string_view text) {
+    LineReader lines(text);
+    std::string_view line;
+    if (IsBlank(text)) throw CsvError(source_ + ": empty file (expected a header row with columns t, q_J, tau_J)");
+    lines.Next(line);
+    if (line.size() >= 3 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM
+    if (IsBlank(line)) throw CsvError(source_ + ":1: empty header row (expected column names t, q_J, tau_J)");
+    ReadHeader(line);
+
+    std::vector<std::string_view> cells;
+    std::vector<double> row(used_.size());
+    values_.reserve(static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n') + 1) * used_.size());
+    int data_lines = 0;
+    while (lines.Next(line)) {
+      if (IsBlank(line)) continue;
+      ++data_lines;
+      const int number = lines.number();
+      SplitCells(line, cells);
+      if (cells.size() != header_.size()) {
+        Bad(number, source_ + ":" + std::to_string(number) + ": " + std::to_string(cells.size()) + " cells, but the header has " +
+                        std::to_string(header_.size()) + " columns");
+        continue;
+      }
+      if (!ParseRow(number, cells, row)) continue;
+      if (!CheckTime(number, row)) continue;
+      values_.insert(values_.end(), row.begin(), row.end());
+      previous_line_ = number;
+    }
+    if (data_lines == 0) throw CsvError(source_ + ": no data rows after the header (line 1)");
+    const int rows = static_cast<int>(values_.size() / used_.size());
+    if (rows == 0) {
+      throw CsvError(source_ + ": no data rows left after skipping " + std::to_string(report_.skipped_rows) + " bad rows (first: " +
+                     first_reason_ + ")");
+    }
+    return Assemble(rows);
+  }
+
+ private:
+  std::string Column(int column) const {
+    return "column " + std::to_string(column + 1) + " '" + header_[static_cast<std::size_t>(column)] + "'";
+  }
+
+  void ReadHeader(std::string_view line) {
+    std::vector<std::string_view> cells;
+    SplitCells(line, cells);
+    std::unordered_map<std::string, int> index;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      header_.emplace_back(cells[c]);
+      if (header_.back().empty()) continue;
+      const auto [it, inserted] = index.emplace(header_.back(), static_cast<int>(c));
+      if (!inserted) {
+        throw CsvError(source_ + ":1: " + Column(static_cast<int>(c)) + " repeats column " + std::to_string(it->second + 1) +
+                       " (column names must be unique)");
+      }
+    }
+    std::vector<std::string> missing, missing_qd, missing_qdd;
+    std::vector<bool> used(header_.size(), false);
+    auto find = [&](const std::string& name) {
+      const auto it = index.find(name);
+      return it == index.end() ? -1 : it->second;
+    };
+    if (find("t") < 0) missing.push_back("t");
+    for (const std::string& j : joints_) {
+      for (const char* prefix : {"q_", "tau_"}) {
+        if (find(prefix + j) < 0) missing.push_back(prefix + j);
+      }
+      if (find("qd_" + j) < 0) missing_qd.push_back("qd_" + j);
+      if (find("qdd_" + j) < 0) missing_qdd.push_back("qdd_" + j);
+    }
+    if (!missing.empty()) {
+      throw CsvError(source_ + ":1: missing column" + (missing.size() > 1 ? "s " : " ") + Join(missing) +
+                     " (the header has: " + Join(header_) + ")");
+    }
+    derive_qd_ = !missing_qd.empty();
+    derive_qdd_ = !missing_qdd.empty();
+
+    auto use = [&](const std::string& name, Kind kind, int joint) {
+      const int column = find(name);
+      used_.push_back({column, kind, joint});
+      used[static_cast<std::size_t>(column)] = true;
+    };
+    use("t", Kind::kTime, 0);
+    std::vector<std::string> ignored_qd, ignored_qdd;
+    for (int j = 0; j < static_cast<int>(joints_.size()); ++j) {
+      const std::string& name = joints_[static_cast<std::size_t>(j)];
+      use("q_" + name, Kind::kQ, j);
+      use("tau_" + name, Kind::kTau, j);
+      // A kind being derived ignores its given columns (named in the derivation notice, not as extra).
+      for (const auto& [prefix, kind, derive, ignored] :
+           {std::tuple<const char*, Kind, bool, std::vector<std::string>*>{"qd_", Kind::kQd, derive_qd_, &ignored_qd},
+            {"qdd_", Kind::kQdd, derive_qdd_, &ignored_qdd}}) {
+        const std::string column = prefix + name;
+        if (!derive) {
+          use(column, kind, j);
+        } else if (find(column) >= 0) {
+          ignored->push_back(column);
+          used[static_cast<std::size_t>(find(column))] = true;
+        }
+      }
+    }
+    std::sort(used_.begin(), used_.end(), [](const UsedColumn& a, const UsedColumn& b) { return a.column < b.column; });
+    for (std::size_t s = 0; s < used_.size(); ++s) {
+      if (used_[s].kind == Kind::kTime) time_slot_ = static_cast<int>(s);
+    }
+
+    std::vector<std::string> extra;
+    for (std::size_t c = 0; c < header_.size(); ++c) {
+      if (!used[c]) extra.push_back(header_[c].empty() ? "(unnamed column " + std::to_string(c + 1) + ")" : header_[c]);
+    }
+    if (!extra.empty()) {
+      report_.notices.push_back(source_ + ": ignored " + std::to_string(extra.size()) + " extra column" +
+                                (extra.size() > 1 ? "s: " : ": ") + Join(extra));
+    }
+    const SavitzkyGolayOptions& sg = options_.differentiation;
+    const std::string method = " by Savitzky-Golay (order " + std::to_string(sg.order) + ", window " + ShortestText(sg.window) + " s)";
+    if (derive_qd_) {
+      report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) + "; all velocities derived from q" + method +
+                                (ignored_qd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qd)));
+    }
+    if (derive_qdd_) {
+      report_.notices.push_back(source_ + ": no acceleration column " + Join(missing_qdd) + "; all accelerations derived from q" +
+                                method + (ignored_qdd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qdd)));
+    }
+  }
+
+  /// Parses the used cells into row; false (after Bad) if one is not a finite number.
+  bool ParseRow(int number, const std::vector<std::string_view>& cells, std::vector<double>& row) {
+    for (std::size_t s = 0; s < used_.size(); ++s) {
+      const std::string_view cell = cells[static_cast<std::size_t>(used_[s].column)];
+      double value = 0.0;
+      const std::from_chars_result r = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+      if (r.ec != std::errc() || r.ptr != cell.data() + cell.size() || cell.empty() || !std::isfinite(value)) {
+        // Not the plain case: ParseDouble decides (it accepts a leading '+') and words the error.
+        try {
+          value = ParseDouble(cell, source_ + ":" + std::to_string(number) + ": " + Column(used_[s].column));
+        } catch (const InvalidNumber& e) {
+          Bad(number, e.what());
+          return false;
+        }
+      }
+      row[s] = value;
+    }
+    return true;
+  }
+
+  /// Checks t against the previous accepted row; false if the row is to be dropped (duplicate) or
+  /// is bad (after Bad).
+  bool CheckTime(int number, const std::vector<double>& row) {
+    if (values_.empty()) return true;
+    const double* previous = values_.data() + values_.size() - row.size();
+    const double t = row[static_cast<std::size_t>(time_slot_)];
+    const double t_previous = previous[time_slot_];
+    const std::string where = source_ + ":" + std::to_string(number) + ": ";
+    if (t == t_previous) {
+      for (std::size_t s = 0; s < row.size(); ++s) {
+        if (row[s] != previous[s]) {
+          Bad(number, where + "same time " + ShortestText(t) + " as line " + std::to_string(previous_line_) +
+                          " but different values (" + Column(used_[s].column) + ": " + ShortestText(row[s]) + " vs " +
+                          ShortestText(previous[s]) + ")");
+          return false;
+        }
+      }
+      if (report_.duplicate_rows++ == 0) first_duplicate_line_ = number;
+      return false;
+    }
+    if (t < t_previous) {
+      Bad(number, where + Column(used_[static_cast<std::size_t>(time_slot_)].column) + ": time " + ShortestText(t) +
+                      " is not after the previous row's " + ShortestText(t_previous) + " (line " + std::to_string(previous_line_) +
+                      "); t must be strictly increasing");
+      return false;
+    }
+    return true;
+  }
+
+  void Bad(int number, const std::string& message) {
+    if (!options_.skip_bad_rows) throw CsvError(message);
+    if (report_.skipped_rows == 0) first_reason_ = message;
+    if (report_.skipped_rows < kListedBadLines) bad_lines_.push_back(std::to_string(number));
+    ++report_.skipped_rows;
+  }
+
+  JointSamples Assemble(int rows) {
+    const int n = static_cast<int>(joints_.size());
+    JointSamples samples;
+    samples.joint_names = joints_;
+    samples.t.resize(rows);
+    samples.q.resize(rows, n);
+    samples.qd.resize(rows, n);
+    samples.qdd.resize(rows, n);
+    samples.tau.resize(rows, n);
+    const std::size_t width = used_.size();
+    for (std::size_t s = 0; s < width; ++s) {
+      const UsedColumn& u = used_[s];
+      double* column = nullptr;
+      switch (u.kind) {
+        case Kind::kTime: column = samples.t.data(); break;
+        case Kind::kQ: column = samples.q.col(u.joint).data(); break;
+        case Kind::kQd: column = samples.qd.col(u.joint).data(); break;
+        case Kind::kQdd: column = samples.qdd.col(u.joint).data(); break;
+        case Kind::kTau: column = samples.tau.col(u.joint).data(); break;
+      }
+      for (int r = 0; r < rows; ++r) column[r] = values_[static_cast<std::size_t>(r) * width + s];
+    }
+    if (report_.duplicate_rows > 0) {
+      report_.notices.push_back(source_ + ": dropped " + std::to_string(report_.duplicate_rows) +
+                                " duplicated row(s) (same time and values as the previous row), the first at line " +
+                                std::to_string(first_duplicate_line_));
+    }
+    if (report_.skipped_rows > 0) {
+      report_.notices.push_back(source_ + ": skipped " + std::to_string(report_.skipped_rows) + " bad row(s) at line" +
+                                (report_.skipped_rows > 1 ? "s " : " ") + Join(bad_lines_) +
+                                (report_.skipped_rows > kListedBadLines ? ", ..." : "") + "; the first: " + first_reason_);
+    }
+    if (derive_qd_ || derive_qdd_) {
+      SavitzkyGolayResult sg;
+      try {
+        sg = SavitzkyGolay(samples.t, samples.q, options_.differentiation);
+      } catch (const std::invalid_argument& e) {
+        throw CsvError(source_ + ": cannot derive " + (derive_qd_ ? "velocities" : "accelerations") + " from q: " + e.what());
+      }
+      if (derive_qd_) samples.qd = std::move(sg.first);
+      if (derive_qdd_) samples.qdd = std::move(sg.second);
+      report_.derived_qd = derive_qd_;
+      report_.derived_qdd = derive_qdd_;
+    }
+    return samples;
+  }
+
+  const std::string& source_;
+  const std::vector<std::string>& joints_;
+  const JointCsvOptions& options_;
+  JointCsvReport& report_;
+
+  std::vector<std::string> header_;
+  std::vector<UsedColumn> used_;  // in header order
+  int time_slot_ = 0;
+  bool derive_qd_ = false;
+  bool derive_qdd_ = false;
+
+  std::vector<double> values_;  // accepted rows, row-major, used_.size() per row
+  int previous_line_ = 0;
+  int first_duplicate_line_ = 0;
+  std::vector<std::string> bad_lines_;
+  std::string first_reason_;
+};
+
+void CheckJointNames(const std::vector<std::string>& joint_names) {
+  if (joint_names.empty()) throw std::invalid_argument("joint CSV: no joint names given");
+  for (std::size_t a = 0; a < joint_names.size(); ++a) {
+    if (joint_names[a].empty()) throw std::invalid_argument("joint CSV: joint name " + std::to_string(a + 1) + " is empty");
+    for (std::size_t b = 0; b < a; ++b) {
+      if (joint_names[a] == joint_names[b]) throw std::invalid_argument("joint CSV: joint name '" + joint_names[a] + "' is given twice");
+    }
+  }
+}
+
+void CheckColumnName(const std::string& name, const std::string& what) {
+  if (name.empty() || name.find_first_of(",\"\r\n") != std::string::npos) {
+    throw std::invalid_argument(what + " '" + name + "' cannot be a CSV column name (empty, or has a comma, quote or line break)");
+  }
+}
+
+/// Buffered writing of a CSV file with a C FILE, reporting failures by path.
+class CsvFileWriter {
+ public:
+  explicit CsvFileWriter(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "wb"), &std::fclose) {
+    if (!file_) throw CsvError("cannot open '" + path + "' for writing: " + std::strerror(errno));
+    buffer_.reserve(kFlushSize + 4096);
+  }
+  void Header(const std::vector<std::string>& names) {
+    for (std::size_t k = 0; k < names.size(); ++k) buffer_ += (k ? "," : "") + names[k];
+    buffer_ += '\n';
+  }
+  void Cell(double value, bool first) {
+    char text[40];
+    const int n = std::snprintf(text, sizeof(text), "%.17g", value);
+    if (!first) buffer_ += ',';
+    buffer_.append(text, static_cast<std::size_t>(n));
+  }
+  void EndRow() {
+    buffer_ += '\n';
+    if (buffer_.size() >= kFlushSize) Flush();
+  }
+  void Close() {
+    Flush();
+    std::FILE* file = file_.release();
+    if (std::fclose(file) != 0) throw CsvError("cannot finish writing '" + path_ + "': " + std::strerror(errno));
+  }
+
+ private:
+  static constexpr std::size_t kFlushSize = 1 << 20;
+  void Flush() {
+    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_.get()) != buffer_.size()) {
+      throw CsvError("cannot write '" + path_ + "': " + std::strerror(errno));
+    }
+    buffer_.clear();
+  }
+  std::string path_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::string buffer_;
+};
+
+/// The rest of the stream as one string: one read of the known remaining size when the stream can
+/// seek (files), else chunk by chunk.
+std::string ReadAll(std::istream& in, const std::string& source_name) {
+  std::string text;
+  const std::istream::pos_type start = in.tellg();
+  if (start != std::istream::pos_type(-1) && in.seekg(0, std::ios::end)) {
+    const std::istream::pos_type end = in.tellg();
+    in.seekg(start);
+    if (end != std::istream::pos_type(-1) && end >= start) text.resize(static_cast<std::size_t>(end - start));
+  }
+  in.clear();
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) text.append(chunk, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw CsvError(source_name + ": read error");
+  return text;
+}
+
+}  // namespace
+
+JointSamples ParseJointCsv(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,
+                           const JointCsvOptions& options, JointCsvReport* report) {
+  CheckJointNames(joint_names);
+  const std::string text = ReadAll(in, source_name);
+  JointCsvReport local;
+  if (report) *report = JointCsvReport{};
+  Parser parser(source_name, joint_names, options, report ? *report : local);
+  return parser.Parse(text);
+}
+
+JointSamples ReadJointCsv(const std::string& path, const std::vector<std::string>& joint_names, const JointCsvOptions& options,
+                          JointCsvReport* report) {
+  CheckJointNames(joint_names);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CsvError("cannot open '" + path + "' for reading: " + std::strerror(errno));
+  return ParseJointCsv(in, path, joint_names, options, report);
+}
+
+void WriteJointCsv(const std::string& path, const JointSamples& samples) {
+  const Eigen::Index rows = samples.t.size();
+  const Eigen::Index n = static_cast<Eigen::Index>(samples.joint_names.size());
+  CheckJointNames(samples.joint_names);
+  for (const auto& [name, m] : {std::pair<const char*, const Eigen::MatrixXd*>{"q", &samples.q}, {"qd", &samples.qd},
+                                {"qdd", &samples.qdd}, {"tau", &samples.tau}}) {
+    if (m->rows() != rows || m->cols() != n) {
+      throw std::invalid_argument("WriteJointCsv: " + std::string(name) + " is " + std::to_string(m->rows()) + " x " +
+                                  std::to_string(m->cols()) + ", expected " + std::to_string(rows) + " x " + std::to_string(n) +
+                                  " (samples x joints)");
+    }
+  }
+  std::vector<std::string> header{"t"};
+  for (const char* prefix : {"q_", "qd_", "qdd_", "tau_"}) {
+    for (const std::string& j : samples.joint_names) {
+      CheckColumnName(j, "joint name");
+      header.push_back(prefix + j);
+    }
+  }
+  CsvFileWriter writer(path);
+  writer.Header(header);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    writer.Cell(samples.t[r], true);
+    for (const Eigen::MatrixXd* m : {&samples.q, &samples.qd, &samples.qdd, &samples.tau}) {
+      for (Eigen::Index j = 0; j < n; ++j) writer.Cell((*m)(r, j), false);
+    }
+    writer.EndRow();
+  }
+  writer.Close();
+}
+
+void WriteColumnsCsv(const std::string& path, const std::vector<std::string>& header, const Eigen::MatrixXd& columns) {
+  if (static_cast<Eigen::Index>(header.size()) != columns.cols()) {
+    throw std::invalid_argument("WriteColumnsCsv: " + std::to_string(header.size()) + " column names for " +
+                                std::to_string(columns.cols()) + " columns");
+  }
+  for (const std::string& name : header) CheckColumnName(name, "column name");
+  CsvFileWriter writer(path);
+  writer.Header(header);
+  for (Eigen::Index r = 0; r < columns.rows(); ++r) {
+    for (Eigen::Index c = 0; c < columns.cols(); ++c) writer.Cell(columns(r, c), c == 0);
+    writer.EndRow();
+  }
+  writer.Close();
+}
+
+}  // namespace inertial
