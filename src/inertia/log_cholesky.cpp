@@ -138,6 +138,53 @@ Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi
   return pi;
 }
 
+Matrix10 LogCholeskyParameterization::ContractedHessian(const Vector10& theta, const Vector10& g) const {
+  // G with g . PiFromPseudoInertia(J) = tr(G J) for every symmetric J.
+  Matrix4 G;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      Matrix4 E = Matrix4::Zero();
+      E(a, b) = 1.0;
+      E(b, a) = 1.0;
+      const double value = g.dot(PiFromPseudoInertia(E));
+      G(a, b) = G(b, a) = a == b ? value : 0.5 * value;
+    }
+  }
+  const Matrix4 U = LogCholeskyFactor(theta);
+  const double ea = std::exp(theta[kAlpha]);
+  // First derivatives of U.
+  Matrix4 dU[10];
+  dU[kAlpha] = U;
+  const int d_index[3] = {kD1, kD2, kD3};
+  for (int i = 0; i < 3; ++i) {
+    dU[d_index[i]] = Matrix4::Zero();
+    dU[d_index[i]](i, i) = ea * std::exp(theta[d_index[i]]);
+  }
+  struct Entry {
+    int index, row, col;
+  };
+  const Entry entries[6] = {{kS12, 0, 1}, {kS23, 1, 2}, {kS13, 0, 2}, {kT1, 0, 3}, {kT2, 1, 3}, {kT3, 2, 3}};
+  for (const Entry& e : entries) {
+    dU[e.index] = Matrix4::Zero();
+    dU[e.index](e.row, e.col) = ea;
+  }
+  // B_k = G dU_k J0 (so that tr(G dU_k J0 dU_l^T) = tr(B_k dU_l^T) = sum of B_k .* dU_l).
+  Matrix4 B[10];
+  for (int k = 0; k < 10; ++k) B[k] = G * dU[k] * J0_;
+  Matrix10 H;
+  for (int k = 0; k < 10; ++k) {
+    for (int l = k; l < 10; ++l) {
+      double value = 2.0 * B[k].cwiseProduct(dU[l]).sum();
+      // Second derivatives of U: U_{alpha l} = dU_l (also U_{alpha alpha} = U = dU_alpha) and
+      // U_{d_i d_i} = dU_{d_i}; tr(G U_kl J0 U^T) = sum of (G U_kl J0) .* U.
+      if (k == kAlpha) value += 2.0 * B[l].cwiseProduct(U).sum();
+      if (k == l && (k == kD1 || k == kD2 || k == kD3)) value += 2.0 * B[k].cwiseProduct(U).sum();
+      H(k, l) = H(l, k) = value;
+    }
+  }
+  return H;
+}
+
 bool LogCholeskyParameterization::FromPi(const Vector10& pi, Vector10* theta) const {
   if (!pi.allFinite()) return false;
   Matrix4 U1;

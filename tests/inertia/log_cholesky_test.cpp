@@ -246,6 +246,29 @@ TEST(LogCholeskyRelative, JacobianMatchesCentralDifferencesAndRoundTrips) {
   }
 }
 
+// The Hessian of g . pi(theta) against central differences of the (independently tested) exact
+// Jacobian, for the identity reference and for random reference bodies; and symmetric.
+TEST(LogCholeskyRelative, ContractedHessianMatchesDifferencesOfTheJacobian) {
+  Rng rng(21);
+  for (int n = 0; n < 200; ++n) {
+    const Pose pose = rng.RandomPose<Pose>(0.5);
+    const LogCholeskyParameterization param =
+        n % 4 == 0 ? LogCholeskyParameterization()
+                   : LogCholeskyParameterization(SolidEllipsoid(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0),
+                                                                rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), pose));
+    const Vector10 theta = rng.UniformVector<10>(-1.5, 1.5);
+    const Vector10 g = rng.UniformVector<10>(-1.0, 1.0);
+    const std::function<Vector10(const Vector10&)> gradient = [&](const Vector10& x) {
+      Matrix10 J;
+      param.ToPi(x, &J);
+      return Vector10(J.transpose() * g);
+    };
+    const Matrix10 H = param.ContractedHessian(theta, g);
+    EXPECT_LT(RelativeError(H, CentralDifference<10, 10>(gradient, theta)), 1e-6) << n;
+    EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
+  }
+}
+
 // The general path (eq. 11 with J0 = 1 given as a body) equals the closed form.
 TEST(LogCholeskyRelative, IdentityReferenceAsABodyEqualsClosedForm) {
   const LogCholeskyParameterization general(InertialParams::FromPseudoInertia(Matrix4::Identity()));

@@ -67,6 +67,13 @@ class LogCholeskyParameterization final : public Parameterization {
   /// (e^{2 alpha} beyond the range of a double).
   bool YieldsConsistentBody(const Vector10& theta) const override { return theta.allFinite() && ToPi(theta).allFinite(); }
 
+  /// The Hessian of the scalar g . pi(theta) with respect to theta (10x10, symmetric), exact: for
+  /// pi linear in J = U J0 U^T, g . pi = tr(G J) with G symmetric, so
+  ///   d2/dtheta_k dtheta_l = 2 tr(G U_kl J0 U^T) + 2 tr(G U_k J0 U_l^T) (symmetrized),
+  /// where U_k, U_kl are the first and second derivatives of U (eq. 8); U_kl is non-zero only for
+  /// (alpha, any) and (d_i, d_i). Used for Newton steps of least-squares fits (the second-order
+  /// term sum_k g_k d2 pi_k / dtheta2 that Gauss-Newton drops).
+  Matrix10 ContractedHessian(const Vector10& theta, const Vector10& g) const;
   /// The inverse at a boundary: theta of a body.
   /// @throws std::invalid_argument with the consistency report's reason if `body` is not fully
   /// physically consistent.
