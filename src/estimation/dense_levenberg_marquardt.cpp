@@ -1,6 +1,7 @@
 #include "inertial/estimation/dense_levenberg_marquardt.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -31,11 +32,29 @@ DenseLevenbergMarquardtResult MinimizeLevenbergMarquardt(const NormalEquationsFn
     if (g.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance * std::max(1.0, g0_norm)) {
       return finish(StopReason::kGradient);
     }
-    const Eigen::VectorXd diag = H.diagonal().cwiseMax(1e-12 * std::max(H.diagonal().maxCoeff(), 1e-300));
+    const Eigen::VectorXd abs_diag = H.diagonal().cwiseAbs();
+    const double max_diag = std::max(abs_diag.maxCoeff(), 1e-300);
+    const Eigen::VectorXd diag = options.scaled_damping ? Eigen::VectorXd(abs_diag.cwiseMax(1e-12 * max_diag))
+                                                        : Eigen::VectorXd::Constant(H.rows(), max_diag);
     while (true) {
       Eigen::MatrixXd damped = H;
       damped.diagonal() += lambda * diag;
-      const Eigen::VectorXd dx = damped.ldlt().solve(-g);
+      // H may be indefinite (a Newton Hessian): only a positive definite damped matrix gives a
+      // descent step; otherwise damp more.
+      const Eigen::LLT<Eigen::MatrixXd> llt(damped);
+      if (llt.info() != Eigen::Success) {
+        // Just enough damping to make it positive definite: lambda above minus the smallest
+        // eigenvalue of D^-1/2 H D^-1/2 (one eigen-decomposition), without the escalation of a
+        // rejected step (which would leave lambda far too large for the next iterations).
+        const Eigen::VectorXd s = diag.cwiseSqrt().cwiseInverse();
+        const Eigen::MatrixXd scaled = s.asDiagonal() * H * s.asDiagonal();
+        const double min_eigenvalue = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(scaled, Eigen::EigenvaluesOnly).eigenvalues()[0];
+        const double needed = -min_eigenvalue * 1.01 + 1e-12;
+        lambda = std::max(2.0 * lambda, needed);
+        if (!(lambda <= 1e16)) return finish(StopReason::kNumericalFailure);
+        continue;
+      }
+      const Eigen::VectorXd dx = llt.solve(-g);
       if (!dx.allFinite()) return finish(StopReason::kNumericalFailure);
       if (dx.norm() <= options.step_tolerance * (options.step_tolerance + x.norm())) return finish(StopReason::kStep);
       const Eigen::VectorXd x_trial = x + dx;

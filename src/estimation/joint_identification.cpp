@@ -1,6 +1,7 @@
 #include "inertial/estimation/joint_identification.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,17 +62,26 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
     throw std::invalid_argument("identification: the prior weight must be finite and non-negative");
   }
   JointIdentificationResult result;
-  // Start: priors; effects by linear least squares on the torque the priors leave unexplained.
+  // Start: priors for the bodies; effects from the unconstrained linear least-squares fit of the
+  // whole model (bodies' pi free too, so that the priors' errors do not leak into the effects),
+  // with every non-negative coefficient at least 1e-3 of its feature's natural scale sqrt(b^T b /
+  // (A_k^T A_k)) (the coefficient at which that feature alone would explain the whole torque RMS):
+  // a coefficient started at ~0 would sit on a plateau of e^s, whose gradient vanishes there.
   Eigen::VectorXd x0 = Eigen::VectorXd::Zero(P);
   const int Fe = F - Fi;
   if (Fe > 0) {
-    const Eigen::VectorXd w_prior = model.Coefficients(x0);
-    const Eigen::MatrixXd Aee = data.AtA.bottomRightCorner(Fe, Fe);
-    const Eigen::VectorXd rhs = data.Atb.tail(Fe) - data.AtA.bottomLeftCorner(Fe, Fi) * w_prior.head(Fi);
-    Eigen::MatrixXd damped = Aee;
-    damped.diagonal().array() += 1e-9 * (Aee.diagonal().maxCoeff() + 1e-300);
-    const Eigen::VectorXd c = damped.ldlt().solve(rhs);
-    x0 = model.ParametersFromEffectCoefficients(c.allFinite() ? c : Eigen::VectorXd::Zero(Fe).eval());
+    Eigen::MatrixXd damped = data.AtA;
+    damped.diagonal().array() += 1e-10 * (data.AtA.diagonal().maxCoeff() + 1e-300);
+    Eigen::VectorXd c = damped.ldlt().solve(data.Atb).tail(Fe);
+    if (!c.allFinite()) c.setZero();
+    for (const EffectTerm& t : model.effects()) {
+      if (t.kind == EffectKind::kOffset) continue;
+      const int k = t.first_feature - Fi;
+      const double natural = std::sqrt(data.btb / std::max(data.AtA(t.first_feature, t.first_feature), 1e-300));
+      c[k] = std::max(c[k], 1e-3 * natural);
+      if (t.kind == EffectKind::kSpring) c[k + 1] = std::clamp(c[k + 1], -1e3 * c[k], 1e3 * c[k]);  // |q0| <= 1e3
+    }
+    x0 = model.ParametersFromEffectCoefficients(c, 1e-300);
   }
   result.x_initial = x0;
 
@@ -90,6 +100,26 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
       const Eigen::VectorXd grad_w = Hw - data.Atb;
       *g = J_w.transpose() * grad_w;
       *H = J_w.transpose() * data.AtA * J_w;
+      if (options.newton) {
+        // The second-order term sum_k grad_w[k] d2 w_k / dx2 that Gauss-Newton drops. Without it,
+        // the fit crawls along the curved valleys that unexcited directions of w make in theta
+        // (steep data walls, a floor held only by the regularizer).
+        for (int e = 0; e < B; ++e) {
+          const EstimatedBody& body = model.bodies()[e];
+          H->block<10, 10>(10 * e, 10 * e) +=
+              body.map.ContractedHessian(x.segment<10>(10 * e), grad_w.segment<10>(10 * body.tree_body));
+        }
+        for (const EffectTerm& t : model.effects()) {
+          const int p = t.first_parameter, f = t.first_feature;
+          if (t.kind == EffectKind::kOffset) continue;
+          (*H)(p, p) += grad_w[f] * w[f];  // w = e^s: d2w/ds2 = w
+          if (t.kind == EffectKind::kSpring) {  // w[f + 1] = e^s q0
+            (*H)(p, p) += grad_w[f + 1] * w[f + 1];
+            (*H)(p, p + 1) += grad_w[f + 1] * w[f];
+            (*H)(p + 1, p) += grad_w[f + 1] * w[f];
+          }
+        }
+      }
     }
     for (int e = 0; e < B; ++e) {
       const Vector10 r =

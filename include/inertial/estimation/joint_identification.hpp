@@ -34,7 +34,14 @@ JointNormalEquations AccumulateNormalEquations(const RobotDynamics& model, const
 
 struct JointIdentificationOptions {
   double prior_weight = 1e-2;  ///< gamma of eq. 14 (the paper's value)
-  LevenbergMarquardtOptions lm{200, 1e-12, 1e-10, 1e-10, 1e-3};
+  /// Stops when an iteration lowers the cost by less than 1e-7 of it (or on tiny steps or
+  /// gradients). Levenberg damping with the Newton Hessian: with Marquardt's scaling the fit
+  /// crawls for hundreds of iterations along directions only the regularizer holds.
+  LevenbergMarquardtOptions lm{1000, 1e-7, 1e-10, 1e-10, 1e-3, false};
+  /// Damped Newton (the exact Hessian of the data term: Gauss-Newton plus the second derivatives
+  /// of w(x), LogCholeskyParameterization::ContractedHessian) instead of Gauss-Newton. The damping
+  /// keeps every step a descent step where that Hessian is indefinite.
+  bool newton = true;
 };
 
 struct JointIdentificationResult {
@@ -45,8 +52,9 @@ struct JointIdentificationResult {
   DenseLevenbergMarquardtResult lm;
 };
 
-/// Fits from the priors (theta = 0); effect coefficients start at their linear least-squares values
-/// given the priors (clamped to be positive where they must be).
+/// Fits from the priors (theta = 0); effect coefficients start at their values in the linear
+/// least-squares fit of the whole model, non-negative ones floored at 1e-3 of their feature's natural
+/// scale (see the implementation).
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options = {});
 

@@ -29,6 +29,10 @@ struct LevenbergMarquardtOptions {
   double step_tolerance = 1e-6;
   double gradient_tolerance = 1e-6;
   double initial_damping = 1e-3;
+  /// Damping matrix D: Marquardt's diag(H) (true) or Levenberg's max(diag H) times the identity
+  /// (false; only MinimizeLevenbergMarquardt of dense_levenberg_marquardt.hpp reads it). Levenberg's
+  /// form lets the steps follow directions of small curvature that have large diagonal entries.
+  bool scaled_damping = true;
 };
 
 enum class StopReason { kGradient, kStep, kFunction, kMaxIterations, kNumericalFailure };
