@@ -35,4 +35,24 @@ struct ConvertCommand {
 CLI::App* AddConvertCommand(CLI::App& app, ConvertCommand* command);
 int RunConvertCommand(const ConvertCommand& command);
 
+struct IdentifyCommand {
+  std::string model, data, validate, effects, predictions, write_urdf;
+  std::string prior_weight = "0.01";
+  std::string max_iterations = "1000";
+  std::string gravity = "0 0 -9.81";
+  std::string sg_order = "4";
+  std::string sg_window = "0.1";
+  bool skip_bad_rows = false;
+  bool json = false;
+};
+CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* command);
+int RunIdentifyCommand(const IdentifyCommand& command);
+
+struct CheckCommand {
+  std::string model, repair;
+  bool json = false;
+};
+CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* command);
+int RunCheckCommand(const CheckCommand& command);
+
 }  // namespace inertial::cli

@@ -15,6 +15,10 @@ int main(int argc, char** argv) {
   ConvertCommand convert;
   CLI::App* study_app = AddStudyCommand(app, &study);
   CLI::App* convert_app = AddConvertCommand(app, &convert);
+  IdentifyCommand identify;
+  CLI::App* identify_app = AddIdentifyCommand(app, &identify);
+  CheckCommand check;
+  CLI::App* check_app = AddCheckCommand(app, &check);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -28,6 +32,8 @@ int main(int argc, char** argv) {
   try {
     if (study_app->parsed()) return RunStudyCommand(study);
     if (convert_app->parsed()) return RunConvertCommand(convert);
+    if (identify_app->parsed()) return RunIdentifyCommand(identify);
+    if (check_app->parsed()) return RunCheckCommand(check);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "option_parsing.hpp"
 #include "inertial/io/study_report.hpp"
 
 namespace inertial::cli {
@@ -28,28 +29,6 @@ CLI::App* AddStudyCommand(CLI::App& app, StudyCommand* c) {
   return sub;
 }
 
-namespace {
-
-// Parses `text` as an integer in [lo, hi]. Returns kOk, or prints the error and returns kInvalidValue
-// (not an integer) or kUsage (out of range).
-template <typename T>
-int ParseInteger(const std::string& text, const char* option, T lo, T hi, T* out) {
-  T value{};
-  const char* last = text.data() + text.size();
-  const std::from_chars_result r = std::from_chars(text.data(), last, value);
-  if (text.empty() || r.ptr != last || (r.ec != std::errc() && r.ec != std::errc::result_out_of_range)) {
-    std::cerr << "Error: " << option << ": '" << text << "' is not an integer\n";
-    return kInvalidValue;
-  }
-  if (r.ec == std::errc::result_out_of_range || value < lo || value > hi) {
-    std::cerr << "Error: " << option << ": " << text << " is out of range (" << lo << " to " << hi << ")\n";
-    return kUsage;
-  }
-  *out = value;
-  return kOk;
-}
-
-}  // namespace
 
 int RunStudyCommand(const StudyCommand& command) {
   StudyCommand c = command;

@@ -1,0 +1,83 @@
+// Joint-space identification costs on the bundled robots: one regressor row block (features of one
+// sample), the regressor and A^T A of a 30 s log at 1 kHz, and one Levenberg-Marquardt iteration.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "inertial/io/identification_report.hpp"
+
+namespace inertial {
+namespace {
+
+struct Robot {
+  RobotModel urdf;
+  RobotDynamics model;
+};
+
+Robot Load(const std::string& file, const std::string& effects) {
+  RobotModel urdf = LoadUrdf(std::string(INERTIAL_SOURCE_DIR) + "/examples/" + file);
+  RobotDynamics model = MakeRobotDynamics(urdf, ParseEffectList(effects));
+  return Robot{std::move(urdf), std::move(model)};
+}
+
+// 30 s at 1 kHz of a multi-sine excitation, torques from the prior model.
+JointSamples Log(const RobotDynamics& model, int samples) {
+  const int n = model.num_dofs();
+  JointSamples s;
+  s.joint_names = model.dof_names();
+  s.t.resize(samples);
+  s.q.resize(samples, n);
+  s.qd.resize(samples, n);
+  s.qdd.resize(samples, n);
+  s.tau.resize(samples, n);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
+  for (int k = 0; k < samples; ++k) {
+    const double t = 1e-3 * k;
+    s.t[k] = t;
+    for (int j = 0; j < n; ++j) {
+      const double w = 2 * M_PI * 0.2 * (1 + 0.3 * j);
+      s.q(k, j) = 0.8 * std::sin(w * t + j);
+      s.qd(k, j) = 0.8 * w * std::cos(w * t + j);
+      s.qdd(k, j) = -0.8 * w * w * std::sin(w * t + j);
+    }
+    s.tau.row(k) = model.InverseDynamics(x, s.q.row(k).transpose(), s.qd.row(k).transpose(), s.qdd.row(k).transpose()).transpose();
+  }
+  return s;
+}
+
+void RegressorRows(benchmark::State& state, const std::string& file, const std::string& effects) {
+  const Robot r = Load(file, effects);
+  const JointSamples s = Log(r.model, 100);
+  Eigen::MatrixXd A(r.model.num_dofs(), r.model.num_features());
+  int k = 0;
+  for (auto _ : state) {
+    r.model.Features(s.q.row(k).transpose(), s.qd.row(k).transpose(), s.qdd.row(k).transpose(), A);
+    benchmark::DoNotOptimize(A.data());
+    k = (k + 1) % 100;
+  }
+  state.counters["features"] = r.model.num_features();
+}
+BENCHMARK_CAPTURE(RegressorRows, leg3, "leg3.urdf", "");
+BENCHMARK_CAPTURE(RegressorRows, arm7, "arm7.urdf", "");
+
+void NormalEquations30s(benchmark::State& state, const std::string& file, const std::string& effects) {
+  const Robot r = Load(file, effects);
+  const JointSamples s = Log(r.model, 30000);
+  for (auto _ : state) benchmark::DoNotOptimize(AccumulateNormalEquations(r.model, s).AtA.data());
+}
+BENCHMARK_CAPTURE(NormalEquations30s, arm7_viscous_coulomb, "arm7.urdf", "viscous,coulomb")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(NormalEquations30s, leg3_rotors, "leg3.urdf", "viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9")
+    ->Unit(benchmark::kMillisecond);
+
+void OneLevenbergMarquardtIteration(benchmark::State& state, const std::string& file, const std::string& effects) {
+  const Robot r = Load(file, effects);
+  const JointNormalEquations eq = AccumulateNormalEquations(r.model, Log(r.model, 30000));
+  JointIdentificationOptions options;
+  options.lm.max_iterations = 1;
+  for (auto _ : state) benchmark::DoNotOptimize(IdentifyJointModel(r.model, eq, options).x.data());
+  state.counters["parameters"] = r.model.num_parameters();
+}
+BENCHMARK_CAPTURE(OneLevenbergMarquardtIteration, arm7_viscous_coulomb, "arm7.urdf", "viscous,coulomb")->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace inertial

@@ -1,0 +1,50 @@
+/// @file identification_report.hpp
+/// `inertial identify` as a library: the robot model from a URDF plus effects, the run (train and
+/// optional validation data, the fit, the prior's and the fit's torque errors, the unidentified
+/// directions), and its text and JSON reports.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "inertial/estimation/identifiability.hpp"
+#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/io/urdf_model.hpp"
+
+namespace inertial {
+
+/// The identification model of a URDF robot: its links (priors from <inertial>), the effects, gravity.
+/// @throws std::invalid_argument naming a bad effect (unknown joint or link ...).
+RobotDynamics MakeRobotDynamics(const RobotModel& robot, const std::vector<EffectSpec>& effects,
+                                const Vector3& gravity = Vector3(0, 0, -9.81));
+
+struct IdentificationRun {
+  JointIdentificationResult fit;
+  double fit_seconds = 0.0;            ///< LM only
+  double accumulate_seconds = 0.0;     ///< regressor rows and A^T A
+  int train_samples = 0, validation_samples = 0;
+  double prior_weight = 0.0;           ///< gamma of eq. 14 used
+  /// prior_*: the URDF's bodies without any effect; fit_*: the identified model.
+  TorqueErrors prior_train, fit_train;
+  std::optional<TorqueErrors> prior_validation, fit_validation;
+  IdentifiabilityReport identifiability;
+};
+
+/// Fits `model` to `train` (and evaluates on `validation` when given).
+IdentificationRun RunIdentification(const RobotDynamics& model, const JointSamples& train,
+                                    const JointSamples* validation, const JointIdentificationOptions& options);
+
+/// The human-readable report (links with mass, COM, inertia about the COM, principal moments and
+/// axes, consistency; effects; per-joint errors; unidentified directions, at most `max_directions`).
+std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions = 12);
+
+/// JSON: {iterations, stop_reason, converged, fit_seconds, prior_weight, cost{data, regularizer},
+/// rms_train{per joint, total}, relative_rms_train, rms_prior_train, (and _validation), bodies[{name,
+/// mass, com, inertia_about_com (3x3), principal_moments, principal_axes (columns), pi, theta,
+/// consistency{...}, physically_consistent}], effects[{effect, joint, values{...}}],
+/// physically_consistent (all bodies), unidentified{rank, parameters, directions[{description, terms}]}}.
+nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run);
+
+}  // namespace inertial

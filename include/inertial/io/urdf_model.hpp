@@ -1,0 +1,100 @@
+/// @file urdf_model.hpp
+/// Loading a URDF robot description (parsed by urdfdom) into a fixed-base KinematicTree.
+///
+/// What is read:
+/// - Joints `revolute` and `continuous` (both revolute), `prismatic` and `fixed`, with their
+///   `<origin xyz rpy>` (rpy fixed-axis roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll)) and `<axis>`
+///   (any non-zero direction, normalized; URDF's default (1, 0, 0) when absent). Limits, dynamics,
+///   visuals and collisions are not used. Several branches (any tree) are fine.
+/// - `<inertial>`: mass, `<origin>` of the COM frame C in the link frame L and the inertia tensor
+///   about the COM in C's axes (ixx .. izz are the tensor entries as written, ixy being the (0,1)
+///   entry). It is converted exactly to pi about L's origin in L's axes: I_L = R_LC I_C R_LC^T, then
+///   the parallel-axis theorem.
+/// - The root link is the fixed base; its own inertia never matters. Each link reached through a
+///   moving joint starts a tree body; links attached by fixed joints are merged into the body they
+///   hang from (their inertias transformed and added exactly). Links fixed to the root belong to the
+///   base (BodyIndex -1) and their inertias are ignored.
+/// - Bodies and DOFs follow the file order of the joints (parents always before children).
+///
+/// Like urdfdom, a joint with several `<origin>` elements uses the first one. urdfdom keeps a link
+/// whose `<inertial>` it cannot parse (missing mass or inertia) and only logs an error; here every
+/// error urdfdom logs makes the file invalid.
+///
+/// Consistency (UrdfLoadOptions::require_consistent_inertials, default on): every `<inertial>` of a
+/// link of a moving body must be fully physically consistent (CheckConsistency), except an all-zero
+/// one (mass 0 and inertia 0: a massless marker link); every moving body must get mass from at least
+/// one of its links. With the option off, any numbers are accepted and a body without `<inertial>`
+/// gets the zero inertia.
+///
+/// Errors (UrdfError) start with the file path (or the source name given to ParseUrdf), e.g.
+/// "robot.urdf: link 'thigh': <inertial> is not physically consistent: triangle inequality ...".
+/// Not supported (errors): floating and planar joints, joints with `<mimic>`.
+/// Thread safety: loads may run concurrently; the urdfdom step is serialized (urdfdom reports its
+/// errors through console_bridge's process-wide log handler, which is captured meanwhile).
+/// Conventions: SI units, spatial vectors angular first, pi order of types.hpp.
+#pragma once
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "inertial/inertia/inertial_params.hpp"
+#include "inertial/model/kinematic_tree.hpp"
+
+namespace inertial {
+
+/// A URDF that cannot be read, parsed or used. The message starts with the file path.
+struct UrdfError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// One URDF link's `<inertial>` as written in the file (before merging).
+struct UrdfLinkInertial {
+  std::string link;
+  bool present = false;  ///< the link has an <inertial> element
+  InertialParams pi;     ///< about the link frame origin, in link axes (zero when absent)
+};
+
+/// Where a URDF link sits in the model: its body (-1: the base) and its frame in that body's frame
+/// (for links of the base: in the root link's frame).
+struct LinkPlacement {
+  int body = -1;
+  SpatialTransform X_body_link;  ///< R_AB, p_AB with A = body frame, B = link frame
+};
+
+struct RobotModel {
+  std::string name;       ///< robot name
+  std::string root_link;  ///< the fixed base
+  /// One body per moving link (named after it, its joint named after the URDF joint); links
+  /// attached by fixed joints are merged into their parent body.
+  KinematicTree tree;
+  std::vector<std::string> body_links;  ///< the URDF link name of each tree body
+  std::vector<bool> body_has_inertial;  ///< some link merged into that body has an <inertial>
+  std::vector<std::string> dof_names;   ///< the joint name of each DOF, in the tree's DOF order
+  std::vector<UrdfLinkInertial> links;  ///< every link of the file, in file order
+  std::map<std::string, LinkPlacement> placements;  ///< every link by name
+
+  /// The DOF of a moving joint, or -1 if `joint` is not a moving joint of the model.
+  int DofIndex(const std::string& joint) const;
+  /// The body a link belongs to (also for links merged by fixed joints), or -1 if none (the root,
+  /// links fixed to it, unknown names).
+  int BodyIndex(const std::string& link) const;
+  /// Pose of a (possibly merged) link frame in its body's frame (for a link of the base: in the root
+  /// link's frame), e.g. for a payload attached to `tool0`.
+  /// @throws std::invalid_argument if the model has no such link.
+  SpatialTransform LinkInBody(const std::string& link) const;
+};
+
+struct UrdfLoadOptions {
+  bool require_consistent_inertials = true;
+};
+
+/// Reads and loads the URDF file at `path`. @throws UrdfError (see the file comment).
+RobotModel LoadUrdf(const std::string& path, const UrdfLoadOptions& options = {});
+
+/// Loads URDF text; `source_name` starts every error message (a path, or e.g. "<string>").
+/// @throws UrdfError (see the file comment).
+RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, const UrdfLoadOptions& options = {});
+
+}  // namespace inertial
