@@ -10,58 +10,17 @@
 
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/identification_report.hpp"
-#include "inertial/model/fourier_trajectory.hpp"
-#include "inertial/model/joint_simulation.hpp"
-#include "test_support.hpp"
+#include "simulated_robot.hpp"
 
 namespace inertial {
 namespace {
 
-std::string Example(const std::string& file) {
-  const char* dir = std::getenv("INERTIAL_SOURCE_DIR");
-  return std::string(dir != nullptr ? dir : ".") + "/examples/" + file;
-}
-
-struct Simulated {
-  JointSamples train, test_clean, test;
-};
-
-// The truth: every body's theta drawn in [-0.25, 0.25] (masses within about +-40 %, COM shifts of
-// centimetres), effect coefficients given; data tracked along two different Fourier trajectories.
-Simulated Simulate(const RobotDynamics& model, const Eigen::VectorXd& x_true, double sigma_tau, double seconds,
-                   std::uint64_t seed) {
-  const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-    return model.InverseDynamics(x_true, q, qd, qdd);
-  };
-  JointSimulationOptions options;
-  options.duration = seconds;
-  options.sample_rate_hz = 500;
-  options.internal_step = 1e-3;
-  options.kp = Eigen::VectorXd::Constant(1, 300);
-  options.kd = Eigen::VectorXd::Constant(1, 30);
-  const int n = model.num_dofs();
-  const FourierTrajectory train_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed);
-  const FourierTrajectory test_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed + 1);
-  Simulated s;
-  s.train = AddGaussianNoise(SimulateTracking(plant, plant, [&](double t) { return train_ref.Evaluate(t); }, options,
-                                              model.dof_names()),
-                             SampleNoise{0, 0, 0, sigma_tau}, seed + 2);
-  s.test_clean = SimulateTracking(plant, plant, [&](double t) { return test_ref.Evaluate(t); }, options, model.dof_names());
-  s.test = AddGaussianNoise(s.test_clean, SampleNoise{0, 0, 0, sigma_tau}, seed + 3);
-  return s;
-}
-
-Eigen::VectorXd TrueParameters(const RobotDynamics& model, const std::vector<double>& effect_values, std::uint64_t seed) {
-  testing::Rng rng(seed);
-  Eigen::VectorXd coeffs(model.num_features() - model.num_inertia_features());
-  for (int k = 0; k < coeffs.size(); ++k) coeffs[k] = effect_values[k % effect_values.size()];
-  Eigen::VectorXd x = model.ParametersFromEffectCoefficients(coeffs);
-  for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) x[i] = rng.Uniform(-0.25, 0.25);
-  return x;
-}
+using testing::Example;
+using testing::SimulatedLogs;
+using testing::TrueParameters;
 
 void ExpectIdentified(const RobotDynamics& model, const Eigen::VectorXd& x_true, double sigma) {
-  const Simulated s = Simulate(model, x_true, sigma, 40.0, 7);
+  const SimulatedLogs s = testing::SimulateLogs(model, x_true, sigma, 40.0, 7);
   const JointNormalEquations eq = AccumulateNormalEquations(model, s.train);
   const IdentificationRun run = RunIdentification(model, s.train, &s.test, JointIdentificationOptions());
   ASSERT_TRUE(run.fit.lm.converged()) << ToString(run.fit.lm.reason) << " after " << run.fit.lm.iterations;
