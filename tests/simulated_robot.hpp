@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,12 @@ inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::Vecto
                              SampleNoise{0, 0, 0, sigma_tau}, seed + 2);
   s.test_clean = SimulateTracking(plant, plant, [&](double t) { return test_ref.Evaluate(t); }, options, model.dof_names());
   s.test = AddGaussianNoise(s.test_clean, SampleNoise{0, 0, 0, sigma_tau}, seed + 3);
+  // A diverged fixed-step integration would still satisfy the dynamics, far off the excitation.
+  for (int i = 0; i < s.test_clean.size(); ++i) {
+    if ((s.test_clean.q.row(i).transpose() - test_ref.Evaluate(s.test_clean.t[i]).q).cwiseAbs().maxCoeff() > 0.09) {
+      throw std::runtime_error("SimulateLogs: the simulation left the excitation trajectory (unstable integration)");
+    }
+  }
   return s;
 }
 

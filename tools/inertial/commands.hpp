@@ -55,4 +55,14 @@ struct CheckCommand {
 CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* command);
 int RunCheckCommand(const CheckCommand& command);
 
+struct SimulateCommand {
+  std::string model, out, effects, truth;
+  std::string effect_values = "0.1";
+  std::string perturb = "0", duration = "20", rate = "500", harmonics = "5", base_frequency = "0.1";
+  std::string amplitude = "0.9", noise_q = "0", noise_qd = "0", noise_tau = "0", seed = "1", truth_seed = "1";
+  bool positions_only = false;
+};
+CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
+int RunSimulateCommand(const SimulateCommand& command);
+
 }  // namespace inertial::cli

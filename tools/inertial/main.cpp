@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   CLI::App* identify_app = AddIdentifyCommand(app, &identify);
   CheckCommand check;
   CLI::App* check_app = AddCheckCommand(app, &check);
+  SimulateCommand simulate;
+  CLI::App* simulate_app = AddSimulateCommand(app, &simulate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     if (convert_app->parsed()) return RunConvertCommand(convert);
     if (identify_app->parsed()) return RunIdentifyCommand(identify);
     if (check_app->parsed()) return RunCheckCommand(check);
+    if (simulate_app->parsed()) return RunSimulateCommand(simulate);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;
