@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "inertial/inertia/assert.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 #include "inertial/model/spatial_algebra.hpp"
 
@@ -97,18 +98,27 @@ Vector6 KinematicTree::MotionSubspace(int i) const {
   return S;
 }
 
-void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                               const Vector3& g_base, std::vector<SpatialTransform>* X, std::vector<Vector6>* v,
-                               std::vector<Vector6>* a) const {
+void KinematicTree::CheckSizes(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) const {
   if (q.size() != num_dofs_ || qd.size() != num_dofs_ || qdd.size() != num_dofs_) {
     throw std::invalid_argument("kinematic tree: q, qd, qdd must have " + std::to_string(num_dofs_) +
                                 " entries, got " + std::to_string(q.size()) + ", " + std::to_string(qd.size()) +
                                 ", " + std::to_string(qdd.size()));
   }
+}
+
+TreeWorkspace KinematicTree::MakeWorkspace() const {
+  TreeWorkspace ws;
+  ws.X.resize(bodies_.size());
+  ws.v.resize(bodies_.size());
+  ws.a.resize(bodies_.size());
+  return ws;
+}
+
+void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                               const Vector3& g_base, TreeWorkspace* ws) const {
+  INERTIAL_ASSERT(q.size() == num_dofs_ && qd.size() == num_dofs_ && qdd.size() == num_dofs_);
+  INERTIAL_ASSERT(ws->X.size() == bodies_.size() && ws->v.size() == bodies_.size() && ws->a.size() == bodies_.size());
   const int n = num_bodies();
-  X->resize(n);
-  v->resize(n);
-  a->resize(n);
   Vector6 a_base = Vector6::Zero();
   a_base.tail<3>() = -g_base;  // gravity as an upward acceleration of the base (Featherstone 5.3)
   for (int i = 0; i < n; ++i) {
@@ -117,60 +127,74 @@ void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& 
     const double qi = b.dof >= 0 ? b.gear * q[b.dof] : 0.0;
     const double qdi = b.dof >= 0 ? b.gear * qd[b.dof] : 0.0;
     const double qddi = b.dof >= 0 ? b.gear * qdd[b.dof] : 0.0;
-    (*X)[i] = ParentToBody(i, qi);
-    const Vector6 v_parent = b.parent >= 0 ? (*v)[b.parent] : Vector6::Zero();
-    const Vector6 a_parent = b.parent >= 0 ? (*a)[b.parent] : a_base;
+    ws->X[i] = ParentToBody(i, qi);
+    const Vector6 v_parent = b.parent >= 0 ? ws->v[b.parent] : Vector6::Zero();
+    const Vector6 a_parent = b.parent >= 0 ? ws->a[b.parent] : a_base;
     const Vector6 S = MotionSubspace(i);
-    (*v)[i] = (*X)[i].ApplyToMotion(v_parent) + S * qdi;
-    (*a)[i] = (*X)[i].ApplyToMotion(a_parent) + S * qddi + MotionCross((*v)[i]) * (S * qdi);
+    ws->v[i] = ws->X[i].ApplyToMotion(v_parent) + S * qdi;
+    ws->a[i] = ws->X[i].ApplyToMotion(a_parent) + S * qddi + MotionCross(ws->v[i]) * (S * qdi);
   }
 }
 
 Eigen::VectorXd KinematicTree::InverseDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                const Eigen::VectorXd& qdd, const Vector3& g_base) const {
-  std::vector<SpatialTransform> X;
-  std::vector<Vector6> v, a;
-  Kinematics(q, qd, qdd, g_base, &X, &v, &a);
+  CheckSizes(q, qd, qdd);
+  TreeWorkspace ws = MakeWorkspace();
+  Kinematics(q, qd, qdd, g_base, &ws);
   const int n = num_bodies();
   std::vector<Vector6> f(n);
   for (int i = 0; i < n; ++i) {
     const Matrix6 M = bodies_[i].inertia.spatial_inertia();
-    f[i] = M * a[i] + ForceCross(v[i]) * (M * v[i]);
+    f[i] = M * ws.a[i] + ForceCross(ws.v[i]) * (M * ws.v[i]);
   }
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(num_dofs_);
   for (int i = n - 1; i >= 0; --i) {
     if (bodies_[i].dof >= 0) tau[bodies_[i].dof] += bodies_[i].gear * MotionSubspace(i).dot(f[i]);
-    if (bodies_[i].parent >= 0) f[bodies_[i].parent] += X[i].ApplyTransposeToForce(f[i]);
+    if (bodies_[i].parent >= 0) f[bodies_[i].parent] += ws.X[i].ApplyTransposeToForce(f[i]);
   }
   return tau;
 }
 
 Eigen::MatrixXd KinematicTree::JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                     const Eigen::VectorXd& qdd, const Vector3& g_base) const {
-  std::vector<SpatialTransform> X;
-  std::vector<Vector6> v, a;
-  Kinematics(q, qd, qdd, g_base, &X, &v, &a);
-  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(num_dofs_, 10 * num_bodies());
+  CheckSizes(q, qd, qdd);
+  TreeWorkspace ws = MakeWorkspace();
+  Eigen::MatrixXd Y(num_dofs_, 10 * num_bodies());
+  JointTorqueRegressor(q, qd, qdd, g_base, &ws, Y);
+  return Y;
+}
+
+void KinematicTree::JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                         const Eigen::VectorXd& qdd, const Vector3& g_base, TreeWorkspace* ws,
+                                         Eigen::Ref<Eigen::MatrixXd> Y) const {
+  INERTIAL_ASSERT(Y.rows() == num_dofs_ && Y.cols() == 10 * num_bodies());
+  Kinematics(q, qd, qdd, g_base, ws);
+  Y.setZero();
   for (int i = 0; i < num_bodies(); ++i) {
     // Body i's wrench, linear in its pi, carried up to the root: each ancestor joint j sees S_j^T F.
-    Matrix6x10 F = RigidBodyRegressor(v[i], a[i]);
+    Matrix6x10 F = RigidBodyRegressor(ws->v[i], ws->a[i]);
     for (int j = i; j >= 0; j = bodies_[j].parent) {
       if (bodies_[j].dof >= 0) {
         Y.block<1, 10>(bodies_[j].dof, 10 * i) += bodies_[j].gear * (MotionSubspace(j).transpose() * F);
       }
       if (bodies_[j].parent >= 0) {
-        for (int c = 0; c < 10; ++c) F.col(c) = X[j].ApplyTransposeToForce(F.col(c));
+        // X^T F column by column: [R m + p x (R f); R f], as one 3x3 product per half.
+        const SpatialTransform& X = ws->X[j];
+        const Eigen::Matrix<double, 3, 10> f = X.R_AB * F.bottomRows<3>();
+        const Eigen::Matrix<double, 3, 10> m = X.R_AB * F.topRows<3>();
+        F.bottomRows<3>() = f;
+        F.topRows<3>() = m + Skew(X.p_AB) * f;
       }
     }
   }
-  return Y;
 }
 
 std::vector<Vector6> KinematicTree::BodyVelocities(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
-  std::vector<SpatialTransform> X;
-  std::vector<Vector6> v, a;
-  Kinematics(q, qd, Eigen::VectorXd::Zero(num_dofs_), Vector3::Zero(), &X, &v, &a);
-  return v;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(num_dofs_);
+  CheckSizes(q, qd, zero);
+  TreeWorkspace ws = MakeWorkspace();
+  Kinematics(q, qd, zero, Vector3::Zero(), &ws);
+  return ws.v;
 }
 
 std::vector<SpatialTransform> KinematicTree::BodyPoses(const Eigen::VectorXd& q) const {

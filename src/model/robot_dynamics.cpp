@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "inertial/inertia/assert.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 
 namespace inertial {
@@ -161,7 +162,17 @@ void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd
     throw std::invalid_argument("robot dynamics: feature block must be " + std::to_string(num_dofs()) + " x " +
                                 std::to_string(num_features_));
   }
-  A.leftCols(num_inertia_features()) = tree_.JointTorqueRegressor(q, qd, qdd, gravity_);
+  if (q.size() != num_dofs() || qd.size() != num_dofs() || qdd.size() != num_dofs()) {
+    throw std::invalid_argument("robot dynamics: q, qd, qdd must have " + std::to_string(num_dofs()) + " entries");
+  }
+  TreeWorkspace workspace = tree_.MakeWorkspace();
+  Features(q, qd, qdd, &workspace, A);
+}
+
+void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                             TreeWorkspace* workspace, Eigen::Ref<Eigen::MatrixXd> A) const {
+  INERTIAL_ASSERT(A.rows() == num_dofs() && A.cols() == num_features_);
+  tree_.JointTorqueRegressor(q, qd, qdd, gravity_, workspace, A.leftCols(num_inertia_features()));
   A.rightCols(num_features_ - num_inertia_features()).setZero();
   for (const EffectTerm& t : effects_) {
     const int j = t.dof, c = t.first_feature;

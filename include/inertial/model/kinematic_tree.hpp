@@ -37,6 +37,13 @@ struct SpatialTransform {
   Vector6 ApplyTransposeToForce(const Vector6& f_B) const;  ///< B -> A coordinates (X^T f)
 };
 
+/// Scratch memory of the tree's recursions (transforms, velocities, accelerations of every body),
+/// sized once by KinematicTree::MakeWorkspace so that the allocation-free overloads never allocate.
+struct TreeWorkspace {
+  std::vector<SpatialTransform> X;
+  std::vector<Vector6> v, a;
+};
+
 class KinematicTree {
  public:
   /// Adds a body with parent index `parent` (-1: the fixed base) and returns its index.
@@ -79,6 +86,15 @@ class KinematicTree {
   Eigen::MatrixXd JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                        const Eigen::VectorXd& qdd, const Vector3& g_base = Vector3(0, 0, -9.81)) const;
 
+  /// A workspace for the overload below (allocates; call once, outside any real-time loop).
+  TreeWorkspace MakeWorkspace() const;
+
+  /// The same Y into `Y` (num_dofs x 10 num_bodies), allocation-free and without exceptions, for
+  /// per-sample use. Preconditions (debug-asserted, the caller checks them): q, qd, qdd have
+  /// num_dofs() entries, `workspace` comes from MakeWorkspace() of this tree, Y has the right size.
+  void JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                            const Vector3& g_base, TreeWorkspace* workspace, Eigen::Ref<Eigen::MatrixXd> Y) const;
+
   /// Body twists (in body frames) at (q, qd): for tests and energy computations.
   std::vector<Vector6> BodyVelocities(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
   /// Pose of every body in the base frame (R_base_body, p_base_body).
@@ -95,9 +111,10 @@ class KinematicTree {
     InertialParams inertia;
   };
   // Velocities and accelerations of every body (a includes -g at the base: gravity as acceleration).
+  // Sizes checked by the caller; writes every entry of the (already sized) workspace vectors.
   void Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                  const Vector3& g_base, std::vector<SpatialTransform>* X, std::vector<Vector6>* v,
-                  std::vector<Vector6>* a) const;
+                  const Vector3& g_base, TreeWorkspace* ws) const;
+  void CheckSizes(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) const;
   Vector6 MotionSubspace(int i) const;
   std::vector<Body> bodies_;
   int num_dofs_ = 0;

@@ -79,6 +79,11 @@ class RobotDynamics {
   /// A(q, qd, qdd) into rows [0, num_dofs) of `A` (num_dofs x num_features).
   void Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                 Eigen::Ref<Eigen::MatrixXd> A) const;
+  /// Allocation-free, exception-free form for per-sample use, with a workspace from
+  /// MakeWorkspace(). Preconditions (debug-asserted): sizes as above.
+  void Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                TreeWorkspace* workspace, Eigen::Ref<Eigen::MatrixXd> A) const;
+  TreeWorkspace MakeWorkspace() const { return tree_.MakeWorkspace(); }
   /// w(x) and (optionally) J_w_x (num_features x num_parameters, block diagonal per body/effect).
   Eigen::VectorXd Coefficients(const Eigen::VectorXd& x, Eigen::MatrixXd* J_w_x = nullptr) const;
   /// tau = A(q, qd, qdd) w(x).

@@ -1,0 +1,77 @@
+/// @file online_joint_estimator.hpp
+/// The online estimator of a robot from joint-space samples (q, qd, qdd, tau of every DOF, in the
+/// model's DOF order): per sample, the features A(q, qd, qdd) of RobotDynamics (joint-torque
+/// regressor of every link and rotor, effect features) computed without allocation, then one
+/// update of the chosen estimator (recursive Gauss-Newton, gradient law, or linear RLS as the
+/// baseline). Update() never allocates and never throws; a bad sample is rejected and counted.
+#pragma once
+
+#include <memory>
+
+#include "inertial/estimation/gradient_estimator.hpp"
+#include "inertial/estimation/linear_rls.hpp"
+#include "inertial/estimation/recursive_gauss_newton.hpp"
+#include "inertial/model/robot_dynamics.hpp"
+
+namespace inertial {
+
+enum class EstimatorKind { kGaussNewton, kGradient, kLinearRls };
+/// "gauss_newton", "gradient", "linear_rls".
+std::string_view ToString(EstimatorKind kind);
+/// @throws std::invalid_argument for any other name.
+EstimatorKind ParseEstimatorKind(std::string_view name);
+
+/// One joint-space sample: time [s] and per DOF q, qd, qdd, tau (SI units, the model's DOF order).
+struct JointSample {
+  double t = 0.0;
+  Eigen::VectorXd q, qd, qdd, tau;
+};
+
+struct OnlineEstimatorOptions {
+  EstimatorKind kind = EstimatorKind::kGaussNewton;
+  double measurement_sigma = 1.0;  ///< per measurement (N m for joint torques, N and N m for wrenches)
+  double theta_std = 0.3;          ///< initial uncertainty of every log-Cholesky parameter
+  double effect_std = 1.0;         ///< initial uncertainty of every effect parameter (log or linear)
+  double linear_std_scale = 0.3;   ///< linear RLS: initial std of each pi entry, relative to |prior| + 0.01
+  KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
+  GradientOptions gradient;        ///< measurement_sigma likewise
+};
+
+/// Makes the estimator of `kind` for a model with `layout`, m measurements, starting at x0 (for
+/// linear RLS: at w(x0)). @throws std::invalid_argument as the constructors.
+std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout& layout, int num_measurements,
+                                                           const Eigen::VectorXd& x0,
+                                                           const OnlineEstimatorOptions& options);
+
+class OnlineJointEstimator {
+ public:
+  /// @param x0 RobotDynamics parameters to start from (zeros: the URDF priors, or a batch fit).
+  /// @throws std::invalid_argument for a wrong-size x0 or bad options.
+  OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineEstimatorOptions& options = {});
+
+  UpdateStatus Update(const JointSample& sample);
+
+  const RobotDynamics& model() const { return model_; }
+  const RecursiveEstimator& estimator() const { return *estimator_; }
+  RecursiveEstimator& estimator() { return *estimator_; }
+  EstimatorKind kind() const { return kind_; }
+  /// The current coefficients w (every tree body's pi, effect coefficients). Allocation-free.
+  const Eigen::VectorXd& coefficients() const { return w_; }
+  /// Estimated body e (RobotDynamics::bodies() order) in its report frame. For linear RLS, which
+  /// has no per-body parameters, the tree body's pi (payloads merged into their link).
+  InertialParams Body(int e) const;
+  /// Torques predicted by the current estimate for the last sample given, and its residual
+  /// (measured - predicted); zero before the first.
+  const Eigen::VectorXd& predicted() const { return tau_hat_; }
+  const Eigen::VectorXd& residual() const { return residual_; }
+
+ private:
+  RobotDynamics model_;
+  EstimatorKind kind_;
+  std::unique_ptr<RecursiveEstimator> estimator_;
+  TreeWorkspace workspace_;
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd w_, tau_hat_, residual_;
+};
+
+}  // namespace inertial

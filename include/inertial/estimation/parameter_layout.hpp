@@ -1,0 +1,70 @@
+/// @file parameter_layout.hpp
+/// How an estimator's parameters x map to the coefficients w of a model linear in them,
+/// y = A w(x) (the joint-torque regressor with effects, or one body's Newton-Euler regressor):
+///   - body blocks: w[f .. f+10) += pi(theta), theta = x[p .. p+10), log-Cholesky relative to a
+///     prior (eq. 11), so every x is a fully physically consistent body;
+///   - scalar blocks: w[f] = x[p] (linear, e.g. an offset), w[f] = e^{x[p]} (a non-negative
+///     coefficient, as the paper does for friction), or a spring (w[f] = e^{x[p]},
+///     w[f+1] = e^{x[p]} x[p+1]).
+/// J_w_x is block diagonal; H = A J_w_x is formed block by block (m x 10 times 10 x 10 per body),
+/// never as a dense product. Evaluate() allocates nothing and throws nothing.
+/// Conventions: pi and theta orders of types.hpp; SI units.
+#pragma once
+
+#include <vector>
+
+#include "inertial/inertia/log_cholesky.hpp"
+#include "inertial/model/robot_dynamics.hpp"
+
+namespace inertial {
+
+struct BodyBlock {
+  LogCholeskyParameterization map;  ///< relative to the body's prior
+  int feature = 0;                  ///< first of the 10 coefficients it adds to
+  int parameter = 0;                ///< first of its 10 parameters (theta)
+};
+
+enum class ScalarMap { kLinear, kExponential, kSpring };
+
+struct ScalarBlock {
+  ScalarMap map = ScalarMap::kLinear;
+  int feature = 0;
+  int parameter = 0;
+  int size() const { return map == ScalarMap::kSpring ? 2 : 1; }
+};
+
+class ParameterLayout {
+ public:
+  /// @throws std::invalid_argument if a block lies outside [0, num_features) or the parameters are
+  /// not numbered 0, 1, ... without gaps or overlaps.
+  ParameterLayout(int num_features, std::vector<BodyBlock> bodies, std::vector<ScalarBlock> scalars);
+
+  /// The layout of RobotDynamics' x (bodies, then effects): the same numbering.
+  static ParameterLayout FromRobot(const RobotDynamics& model);
+  /// One body: x = theta relative to `prior`, w = pi. @throws std::invalid_argument if the prior
+  /// is not fully physically consistent.
+  static ParameterLayout SingleBody(const InertialParams& prior);
+
+  int num_parameters() const { return num_parameters_; }
+  int num_features() const { return num_features_; }
+  const std::vector<BodyBlock>& bodies() const { return bodies_; }
+  const std::vector<ScalarBlock>& scalars() const { return scalars_; }
+
+  /// w(x). Preconditions (debug-asserted): sizes.
+  void Coefficients(const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> w) const;
+  /// w(x) and H = A J_w_x (A: m x num_features, H: m x num_parameters). Allocation-free.
+  void Evaluate(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, Eigen::Ref<Eigen::VectorXd> w,
+                Eigen::Ref<Eigen::MatrixXd> H) const;
+  /// Body b's pi at x (in the frame of its feature block).
+  InertialParams Body(int b, const Eigen::VectorXd& x) const;
+  /// Covariance of body b's pi from the covariance of x: J P_bb J^T (10 x 10).
+  Matrix10 BodyCovariance(int b, const Eigen::VectorXd& x, const Eigen::MatrixXd& P) const;
+
+ private:
+  int num_features_ = 0;
+  int num_parameters_ = 0;
+  std::vector<BodyBlock> bodies_;
+  std::vector<ScalarBlock> scalars_;
+};
+
+}  // namespace inertial

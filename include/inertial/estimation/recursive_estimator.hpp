@@ -1,0 +1,78 @@
+/// @file recursive_estimator.hpp
+/// The interface of the online estimators (recursive Gauss-Newton, gradient law, linear recursive
+/// least squares): one sample at a time of a model linear in coefficients w(x),
+///
+///   y = A w(x) + noise,     A: m x F features of the sample (joint-torque regressor and effect
+///                           features, or one body's Newton-Euler regressor), y: m measurements.
+///
+/// Update() validates the sample (sizes, finiteness, strictly increasing time), then hands it to
+/// the estimator. It never allocates and never throws: a sample that cannot be used is rejected
+/// with a status and counted, and the estimate stays exactly as it was. All memory is sized at
+/// construction. The state (x, covariance, time, counters) can be saved and restored, so a
+/// restarted process continues where it stopped.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "inertial/estimation/update_status.hpp"
+
+namespace inertial {
+
+/// Everything an estimator needs to continue: parameters, covariance (empty for the gradient law),
+/// time of the last accepted sample and the counters.
+struct EstimatorState {
+  std::string kind;         ///< "gauss_newton", "gradient" or "linear_rls"
+  Eigen::VectorXd x;
+  Eigen::MatrixXd P;        ///< full symmetric, or empty
+  bool has_time = false;
+  double last_time = 0.0;
+  UpdateCounters counters;
+};
+
+class RecursiveEstimator {
+ public:
+  virtual ~RecursiveEstimator() = default;
+
+  /// One sample at time t [s]. A: num_measurements() x num_features(), y: num_measurements().
+  UpdateStatus Update(double t, const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+
+  virtual std::string_view kind() const = 0;
+  int num_features() const { return num_features_; }
+  int num_measurements() const { return num_measurements_; }
+  int num_parameters() const { return static_cast<int>(parameters().size()); }
+  /// x (log-Cholesky theta and effect parameters, or pi itself for linear RLS).
+  virtual const Eigen::VectorXd& parameters() const = 0;
+  /// w(x) into w (num_features()). Allocation-free.
+  virtual void Coefficients(Eigen::Ref<Eigen::VectorXd> w) const = 0;
+  /// Covariance of x (allocates); empty for estimators that keep none.
+  virtual Eigen::MatrixXd Covariance() const = 0;
+
+  const UpdateCounters& counters() const { return counters_; }
+  /// Counts a sample that an adapter (e.g. OnlineJointEstimator) rejected or buffered before Update().
+  void CountSample(UpdateStatus status) { counters_.Add(status); }
+  bool has_time() const { return has_time_; }
+  double last_time() const { return last_time_; }
+
+  EstimatorState State() const;
+  /// Restores a State() of an estimator of the same kind and sizes. Returns false (and *why says
+  /// what does not match) without changing anything otherwise.
+  bool Restore(const EstimatorState& state, std::string* why);
+
+ protected:
+  RecursiveEstimator(int num_features, int num_measurements)
+      : num_features_(num_features), num_measurements_(num_measurements) {}
+  /// The estimator's own update of a validated sample; must leave the estimate untouched unless it
+  /// returns kAccepted.
+  virtual UpdateStatus Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) = 0;
+  virtual bool SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, std::string* why) = 0;
+
+ private:
+  int num_features_, num_measurements_;
+  UpdateCounters counters_;
+  bool has_time_ = false;
+  double last_time_ = 0.0;
+};
+
+}  // namespace inertial

@@ -1,0 +1,119 @@
+#include "inertial/estimation/parameter_layout.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "inertial/inertia/assert.hpp"
+
+namespace inertial {
+
+ParameterLayout::ParameterLayout(int num_features, std::vector<BodyBlock> bodies, std::vector<ScalarBlock> scalars)
+    : num_features_(num_features), bodies_(std::move(bodies)), scalars_(std::move(scalars)) {
+  std::vector<int> owner;
+  auto claim = [&](int parameter, int count, int feature, int feature_count, const std::string& what) {
+    if (feature < 0 || feature + feature_count > num_features_) {
+      throw std::invalid_argument("parameter layout: " + what + " features [" + std::to_string(feature) + ", " +
+                                  std::to_string(feature + feature_count) + ") outside [0, " +
+                                  std::to_string(num_features_) + ")");
+    }
+    if (parameter < 0) throw std::invalid_argument("parameter layout: " + what + " has a negative parameter index");
+    if (static_cast<int>(owner.size()) < parameter + count) owner.resize(parameter + count, 0);
+    for (int k = parameter; k < parameter + count; ++k) {
+      if (owner[k]++ != 0) throw std::invalid_argument("parameter layout: parameter " + std::to_string(k) + " used twice");
+    }
+  };
+  for (size_t b = 0; b < bodies_.size(); ++b) claim(bodies_[b].parameter, 10, bodies_[b].feature, 10, "body " + std::to_string(b));
+  for (size_t s = 0; s < scalars_.size(); ++s) {
+    claim(scalars_[s].parameter, scalars_[s].size(), scalars_[s].feature, scalars_[s].size(), "scalar " + std::to_string(s));
+  }
+  for (size_t k = 0; k < owner.size(); ++k) {
+    if (owner[k] == 0) throw std::invalid_argument("parameter layout: parameter " + std::to_string(k) + " is unused");
+  }
+  num_parameters_ = static_cast<int>(owner.size());
+}
+
+ParameterLayout ParameterLayout::FromRobot(const RobotDynamics& model) {
+  std::vector<BodyBlock> bodies;
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    bodies.push_back(BodyBlock{model.bodies()[e].map, 10 * model.bodies()[e].tree_body, static_cast<int>(10 * e)});
+  }
+  std::vector<ScalarBlock> scalars;
+  for (const EffectTerm& t : model.effects()) {
+    const ScalarMap map = t.kind == EffectKind::kOffset ? ScalarMap::kLinear
+                          : t.kind == EffectKind::kSpring ? ScalarMap::kSpring
+                                                          : ScalarMap::kExponential;
+    scalars.push_back(ScalarBlock{map, t.first_feature, t.first_parameter});
+  }
+  return ParameterLayout(model.num_features(), std::move(bodies), std::move(scalars));
+}
+
+ParameterLayout ParameterLayout::SingleBody(const InertialParams& prior) {
+  return ParameterLayout(10, {BodyBlock{LogCholeskyParameterization(prior), 0, 0}}, {});
+}
+
+void ParameterLayout::Coefficients(const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> w) const {
+  INERTIAL_ASSERT(x.size() == num_parameters_ && w.size() == num_features_);
+  w.setZero();
+  for (const BodyBlock& b : bodies_) w.segment<10>(b.feature) += b.map.ToPi(x.segment<10>(b.parameter));
+  for (const ScalarBlock& s : scalars_) {
+    const double v = x[s.parameter];
+    switch (s.map) {
+      case ScalarMap::kLinear: w[s.feature] = v; break;
+      case ScalarMap::kExponential: w[s.feature] = std::exp(v); break;
+      case ScalarMap::kSpring:
+        w[s.feature] = std::exp(v);
+        w[s.feature + 1] = std::exp(v) * x[s.parameter + 1];
+        break;
+    }
+  }
+}
+
+void ParameterLayout::Evaluate(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, Eigen::Ref<Eigen::VectorXd> w,
+                               Eigen::Ref<Eigen::MatrixXd> H) const {
+  INERTIAL_ASSERT(x.size() == num_parameters_ && w.size() == num_features_ && A.cols() == num_features_);
+  INERTIAL_ASSERT(H.rows() == A.rows() && H.cols() == num_parameters_);
+  w.setZero();
+  Matrix10 J;
+  for (const BodyBlock& b : bodies_) {
+    w.segment<10>(b.feature) += b.map.ToPi(x.segment<10>(b.parameter), &J);
+    H.middleCols<10>(b.parameter).noalias() = A.middleCols<10>(b.feature) * J;
+  }
+  for (const ScalarBlock& s : scalars_) {
+    const double v = x[s.parameter];
+    switch (s.map) {
+      case ScalarMap::kLinear:
+        w[s.feature] = v;
+        H.col(s.parameter) = A.col(s.feature);
+        break;
+      case ScalarMap::kExponential:
+        w[s.feature] = std::exp(v);
+        H.col(s.parameter) = w[s.feature] * A.col(s.feature);
+        break;
+      case ScalarMap::kSpring: {
+        const double k = std::exp(v), q0 = x[s.parameter + 1];
+        w[s.feature] = k;
+        w[s.feature + 1] = k * q0;
+        // d(k a0 + k q0 a1)/ds = k a0 + k q0 a1, d/dq0 = k a1.
+        H.col(s.parameter) = k * A.col(s.feature) + k * q0 * A.col(s.feature + 1);
+        H.col(s.parameter + 1) = k * A.col(s.feature + 1);
+        break;
+      }
+    }
+  }
+}
+
+InertialParams ParameterLayout::Body(int b, const Eigen::VectorXd& x) const {
+  const BodyBlock& block = bodies_.at(b);
+  return InertialParams::FromVector(block.map.ToPi(x.segment<10>(block.parameter)));
+}
+
+Matrix10 ParameterLayout::BodyCovariance(int b, const Eigen::VectorXd& x, const Eigen::MatrixXd& P) const {
+  const BodyBlock& block = bodies_.at(b);
+  Matrix10 J;
+  block.map.ToPi(x.segment<10>(block.parameter), &J);
+  const Matrix10 Pbb = P.block<10, 10>(block.parameter, block.parameter);
+  return J * Pbb * J.transpose();
+}
+
+}  // namespace inertial

@@ -1,0 +1,64 @@
+#include "inertial/estimation/recursive_gauss_newton.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace inertial {
+
+RecursiveGaussNewton::RecursiveGaussNewton(ParameterLayout layout, int num_measurements, const Eigen::VectorXd& x0,
+                                           const Eigen::VectorXd& initial_std,
+                                           const RecursiveGaussNewtonOptions& options)
+    : RecursiveEstimator(layout.num_features(), num_measurements),
+      layout_(std::move(layout)),
+      options_(options),
+      kalman_(layout_.num_parameters(), num_measurements, initial_std, options.kalman),
+      x_(x0) {
+  if (x0.size() != layout_.num_parameters() || !x0.allFinite()) {
+    throw std::invalid_argument("recursive Gauss-Newton: x0 must be " + std::to_string(layout_.num_parameters()) +
+                                " finite numbers");
+  }
+  if (!(options.max_abs_parameter > 0)) throw std::invalid_argument("recursive Gauss-Newton: max_abs_parameter must be positive");
+  w_.resize(layout_.num_features());
+  x_trial_.resize(layout_.num_parameters());
+  r_.resize(num_measurements);
+  H_.resize(num_measurements, layout_.num_parameters());
+}
+
+UpdateStatus RecursiveGaussNewton::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+  layout_.Evaluate(x_, A, w_, H_);
+  r_ = y;
+  r_.noalias() -= A * w_;
+  const UpdateStatus status = kalman_.Step(H_, r_);
+  if (status != UpdateStatus::kAccepted) return status;
+  const Eigen::VectorXd& dx = kalman_.step();
+  // Damping: the linearization can be poor far from the estimate (a large innovation, a changed
+  // payload). The Kalman step of a linear model always lowers this sample's residual; where the
+  // true model's residual does not fall, the step is halved (up to max_halvings times).
+  const double before = r_.squaredNorm();
+  double scale = 1.0;
+  for (int k = 0; k <= options_.max_halvings; ++k) {
+    x_trial_ = x_ + scale * dx;
+    layout_.Coefficients(x_trial_, w_);
+    r_ = y;
+    r_.noalias() -= A * w_;
+    if (r_.squaredNorm() <= before) break;
+    scale *= 0.5;
+  }
+  for (int i = 0; i < x_.size(); ++i) {
+    if (!(std::abs(x_trial_[i]) <= options_.max_abs_parameter)) return UpdateStatus::kNumerical;
+  }
+  x_ = x_trial_;
+  kalman_.Commit(scale);
+  return UpdateStatus::kAccepted;
+}
+
+bool RecursiveGaussNewton::SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, std::string* why) {
+  if (!kalman_.SetCovariance(P)) {
+    if (why != nullptr) *why = "the covariance is missing, of the wrong size or not finite";
+    return false;
+  }
+  x_ = x;
+  return true;
+}
+
+}  // namespace inertial
