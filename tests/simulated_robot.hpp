@@ -36,12 +36,11 @@ inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::Vecto
   JointSimulationOptions options;
   options.duration = seconds;
   options.sample_rate_hz = rate_hz;
-  options.internal_step = 5e-4;  // RK4 stays stable under the kd = 30 tracking gain of the light shank
-  options.kp = Eigen::VectorXd::Constant(1, 300);
-  options.kd = Eigen::VectorXd::Constant(1, 30);
+  options.internal_step = 5e-4;
   const int n = model.num_dofs();
   const FourierTrajectory train_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed);
   const FourierTrajectory test_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed + 1);
+  SetTrackingGainsFromInertia(plant, train_ref.Evaluate(0.0).q, 5.0, 0.7, &options);
   SimulatedLogs s;
   s.train = AddGaussianNoise(SimulateTracking(plant, plant, [&](double t) { return train_ref.Evaluate(t); }, options,
                                               model.dof_names()),

@@ -275,4 +275,20 @@ JointSamples AddGaussianNoise(const JointSamples& samples, const SampleNoise& si
   return out;
 }
 
+void SetTrackingGainsFromInertia(const JointDynamicsFn& id, const Eigen::VectorXd& q, double bandwidth_hz,
+                                 double damping_ratio, JointSimulationOptions* options) {
+  const int n = static_cast<int>(q.size());
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd bias = id(q, zero, zero);
+  if (bias.size() != n) throw std::invalid_argument("tracking gains: the inverse dynamics returned a wrong size");
+  Eigen::VectorXd m(n);
+  for (int k = 0; k < n; ++k) {
+    m[k] = id(q, zero, Eigen::VectorXd::Unit(n, k))[k] - bias[k];
+    if (!(m[k] > 0)) throw std::invalid_argument("tracking gains: mass matrix diagonal " + std::to_string(k) + " is not positive");
+  }
+  const double w = 2 * M_PI * bandwidth_hz;
+  options->kp = w * w * m;
+  options->kd = 2 * damping_ratio * w * m;
+}
+
 }  // namespace inertial

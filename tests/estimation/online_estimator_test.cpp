@@ -203,7 +203,7 @@ TEST(OnlineBodyEstimator, GaussNewtonFromTwistPairsMidpointRule) {
 TEST(OnlineBodyEstimator, GradientLawConverges) {
   const InertialParams truth = TrueBody();
   OnlineEstimatorOptions o = Options(EstimatorKind::kGradient, 0.05);
-  o.gradient.gain = 1.0;
+  o.gradient.gain = 1.0;  // the noise is small here (0.05 N against wrenches of ~10 N)
   OnlineBodyEstimator est(Prior(), o);
   const double start = RelativeBodyError(est.Body(), truth);
   for (const BodySample& s : Stream(truth, 60.0, 200.0, 0.05, 3)) {
@@ -323,7 +323,8 @@ TEST(OnlineBodyEstimator, StateRestoreContinuesIdentically) {
     OnlineBodyEstimator b(Prior(), Options(kind, 0.05));
     std::string why;
     ASSERT_TRUE(b.estimator().Restore(saved, &why)) << why;
-    EXPECT_EQ(b.estimator().counters().accepted(), 1000u);
+    EXPECT_EQ(b.estimator().counters().accepted(), a.estimator().counters().accepted());
+    EXPECT_GT(b.estimator().counters().accepted(), 900u);
     // Time continues: a sample from before the checkpoint is out of order for the restored one.
     EXPECT_EQ(b.Update(stream[500]), UpdateStatus::kOutOfOrder);
     for (int k = 1000; k < 2000; ++k) {

@@ -124,18 +124,13 @@ int RunSimulateCommand(const SimulateCommand& c) {
   options.internal_step = std::min(5e-4, 1.0 / rate);
   const FourierTrajectory reference =
       RandomFourierTrajectory(model->num_dofs(), harmonics, base_frequency, amplitude, seed);
-  // Tracking gains from the robot's own inertia (a 5 Hz, 0.7-damped loop per joint on the mass
-  // matrix diagonal at the start), so that light links do not make the fixed-step RK4 unstable.
-  {
-    const int n = model->num_dofs();
-    const JointTrajectoryPoint start = reference.Evaluate(0.0);
-    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
-    const Eigen::VectorXd bias = plant(start.q, zero, zero);
-    Eigen::VectorXd m(n);
-    for (int k = 0; k < n; ++k) m[k] = plant(start.q, zero, Eigen::VectorXd::Unit(n, k))[k] - bias[k];
-    const double w = 2 * M_PI * 5.0;
-    options.kp = w * w * m.cwiseMax(1e-9);
-    options.kd = 2 * 0.7 * w * m.cwiseMax(1e-9);
+  // Tracking gains from the robot's own inertia (a 5 Hz, 0.7-damped loop per joint), so that
+  // light links do not make the fixed-step RK4 unstable.
+  try {
+    SetTrackingGainsFromInertia(plant, reference.Evaluate(0.0).q, 5.0, 0.7, &options);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: simulation failed: " << e.what() << "\n";
+    return kInvalidValue;
   }
   JointSamples samples;
   try {

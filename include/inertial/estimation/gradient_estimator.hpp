@@ -17,7 +17,9 @@
 namespace inertial {
 
 struct GradientOptions {
-  double gain = 0.5;               ///< normalized step, in (0, 2)
+  /// Normalized step, in (0, 2). The steady-state error grows with it (gain 1 fits each noisy
+  /// sample exactly); 0.05 suits torque data with noise of a tenth of the signal.
+  double gain = 0.05;
   double measurement_sigma = 1.0;  ///< standard deviation of each measurement
   double huber = 3.0;              ///< normalized residual (sigmas) where down-weighting starts
   double gate = 30.0;              ///< normalized residual (sigmas) beyond which a sample is an outlier

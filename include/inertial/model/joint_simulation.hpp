@@ -79,6 +79,14 @@ JointSamples SampleTrajectory(const JointDynamicsFn& id, const JointReferenceFn&
                               const JointSimulationOptions& options, const std::vector<std::string>& joint_names = {});
 
 /// Standard deviations of additive white Gaussian noise per signal (SI units of each signal).
+/// Tracking gains scaled to the robot's own inertia: per joint j, kp_j = w^2 M_jj, kd_j =
+/// 2 zeta w M_jj with w = 2 pi bandwidth_hz and M_jj the mass matrix diagonal at q (from the
+/// inverse dynamics: id(q, 0, e_j) - id(q, 0, 0)), so that light links do not make the fixed-step
+/// integration unstable under stiff fixed gains. Writes options->kp and options->kd.
+/// @throws std::invalid_argument if id returns a wrong size or a non-positive diagonal.
+void SetTrackingGainsFromInertia(const JointDynamicsFn& id, const Eigen::VectorXd& q, double bandwidth_hz,
+                                 double damping_ratio, JointSimulationOptions* options);
+
 struct SampleNoise {
   double q = 0.0, qd = 0.0, qdd = 0.0, tau = 0.0;
 };

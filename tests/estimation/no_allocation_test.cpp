@@ -1,0 +1,196 @@
+// The online estimators allocate nothing per sample. Proven two ways around long runs of
+// updates: Eigen's EIGEN_RUNTIME_NO_MALLOC guard (this program compiles the core's sources itself
+// with the guard on and assertions live, see tests/CMakeLists.txt), and a counting malloc /
+// operator new hook that sees every heap allocation of the process, the standard library's too.
+// Robots are built in code (a 3-DOF leg with rotors and friction, a 7-DOF arm with friction and
+// offsets, one body) so that the core alone is linked.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/model/rigid_body_regressor.hpp"
+
+#ifndef EIGEN_RUNTIME_NO_MALLOC
+#error "this test must be compiled with EIGEN_RUNTIME_NO_MALLOC"
+#endif
+#ifdef NDEBUG
+#error "this test needs assertions (Eigen's guard is an assertion)"
+#endif
+
+extern "C" void* __libc_malloc(std::size_t);
+extern "C" void* __libc_calloc(std::size_t, std::size_t);
+extern "C" void* __libc_realloc(void*, std::size_t);
+extern "C" void __libc_free(void*);
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+void Count() {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+extern "C" void* malloc(std::size_t n) {
+  Count();
+  return __libc_malloc(n);
+}
+extern "C" void* calloc(std::size_t n, std::size_t size) {
+  Count();
+  return __libc_calloc(n, size);
+}
+extern "C" void* realloc(void* p, std::size_t n) {
+  Count();
+  return __libc_realloc(p, n);
+}
+extern "C" void free(void* p) { __libc_free(p); }
+void* operator new(std::size_t n) {
+  Count();
+  void* p = __libc_malloc(n == 0 ? 1 : n);
+  if (p == nullptr) throw std::bad_alloc();
+  return p;
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { __libc_free(p); }
+void operator delete[](void* p) noexcept { __libc_free(p); }
+void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
+void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
+
+namespace inertial {
+namespace {
+
+// Counts heap allocations and arms Eigen's guard around `body`.
+template <typename F>
+long AllocationsDuring(F&& body) {
+  g_allocations = 0;
+  Eigen::internal::set_is_malloc_allowed(false);
+  g_counting = true;
+  body();
+  g_counting = false;
+  Eigen::internal::set_is_malloc_allowed(true);
+  return g_allocations;
+}
+
+JointModel Joint(const std::string& name, const Vector3& p, const Vector3& axis) {
+  JointModel j;
+  j.name = name;
+  j.p_parent_joint = p;
+  j.axis = axis.normalized();
+  return j;
+}
+
+RobotDynamics Leg() {
+  KinematicTree tree;
+  tree.AddBody("abad_link", -1, Joint("abad", Vector3(0, 0, 0), Vector3::UnitX()), SolidBox(2.0, 0.1, 0.1, 0.1));
+  tree.AddBody("thigh", 0, Joint("hip", Vector3(0, 0.06, 0), Vector3::UnitY()),
+               SolidBox(1.8, 0.05, 0.05, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.17)}));
+  tree.AddBody("shank", 1, Joint("knee", Vector3(0, 0, -0.34), Vector3::UnitY()),
+               SolidBox(0.45, 0.03, 0.03, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.17)}));
+  return RobotDynamics(tree, {"abad", "hip", "knee"},
+                       ParseEffectList("viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9"), nullptr);
+}
+
+RobotDynamics Arm() {
+  KinematicTree tree;
+  std::vector<std::string> names;
+  for (int i = 0; i < 7; ++i) {
+    names.push_back("joint" + std::to_string(i + 1));
+    const Vector3 axis = i % 2 == 0 ? Vector3::UnitZ() : Vector3::UnitY();
+    tree.AddBody("link" + std::to_string(i + 1), i - 1, Joint(names.back(), Vector3(0, 0, i == 0 ? 0.1 : 0.2), axis),
+                 SolidCylinder(4.0 - 0.5 * i, 0.06, 0.2, Pose{Matrix3::Identity(), Vector3(0, 0.01, 0.1)}));
+  }
+  return RobotDynamics(tree, names, ParseEffectList("viscous,coulomb,offset"), nullptr);
+}
+
+JointSample SampleAt(const RobotDynamics& model, const Eigen::VectorXd& x_true, int k) {
+  const int n = model.num_dofs();
+  JointSample s;
+  s.t = 1e-3 * k;
+  s.q.resize(n);
+  s.qd.resize(n);
+  s.qdd.resize(n);
+  for (int j = 0; j < n; ++j) {
+    const double w = 2 * M_PI * (0.3 + 0.1 * j);
+    s.q[j] = 0.7 * std::sin(w * s.t + j);
+    s.qd[j] = 0.7 * w * std::cos(w * s.t + j);
+    s.qdd[j] = -0.7 * w * w * std::sin(w * s.t + j);
+  }
+  s.tau = model.InverseDynamics(x_true, s.q, s.qd, s.qdd);
+  if (k % 500 == 250) s.tau[0] += 1000.0;                        // an outlier
+  if (k % 700 == 350) s.qd[1] = std::numeric_limits<double>::quiet_NaN();  // a broken sample
+  if (k % 900 == 450) s.t -= 1.0;                                // time going backwards
+  return s;
+}
+
+TEST(NoAllocation, TheHookAndTheGuardSeeAllocations) {
+  // The counting hook can fail: a vector allocates.
+  g_allocations = 0;
+  g_counting = true;
+  { std::vector<double> v(100); }
+  g_counting = false;
+  EXPECT_GT(g_allocations, 0);
+  // Eigen's guard can fail: a dynamic matrix aborts the process.
+  EXPECT_DEATH(AllocationsDuring([] { Eigen::MatrixXd m(10, 10); m.setZero(); }), "");
+}
+
+TEST(NoAllocation, JointEstimatorsOnALegAndAnArm) {
+  for (const RobotDynamics& model : {Leg(), Arm()}) {
+    Eigen::VectorXd x_true = Eigen::VectorXd::Constant(model.num_parameters(), 0.1);
+    std::vector<JointSample> samples;
+    for (int k = 0; k < 5000; ++k) samples.push_back(SampleAt(model, x_true, k));
+    for (EstimatorKind kind : {EstimatorKind::kGaussNewton, EstimatorKind::kGradient, EstimatorKind::kLinearRls}) {
+      OnlineEstimatorOptions o;
+      o.kind = kind;
+      o.kalman.forgetting = 0.999;
+      o.kalman.process_noise = 1e-8;
+      OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
+      JointSample wrong = samples[0];
+      wrong.tau.resize(model.num_dofs() + 1);  // made outside the guarded region
+      const long allocations = AllocationsDuring([&] {
+        for (const JointSample& s : samples) est.Update(s);
+        est.Update(wrong);
+      });
+      EXPECT_EQ(allocations, 0) << ToString(kind) << " on " << model.num_dofs() << " DOFs";
+      const UpdateCounters& c = est.estimator().counters();
+      EXPECT_GT(c.accepted(), 4000u);
+      EXPECT_GT(c[UpdateStatus::kNonFinite], 0u);
+      EXPECT_GT(c[UpdateStatus::kOutOfOrder], 0u);
+      EXPECT_EQ(c[UpdateStatus::kWrongSize], 1u);
+    }
+  }
+}
+
+TEST(NoAllocation, SingleBodyEstimators) {
+  const InertialParams truth = SolidBox(1.3, 0.2, 0.1, 0.05, Pose{Matrix3::Identity(), Vector3(0.05, 0, 0.02)});
+  std::vector<BodySample> samples;
+  for (int k = 0; k < 5000; ++k) {
+    BodySample s;
+    s.t = 1e-3 * k;
+    for (int i = 0; i < 6; ++i) {
+      s.twist[i] = std::sin(2 * M_PI * (0.3 + 0.2 * i) * s.t + i);
+      s.acceleration[i] = 2 * M_PI * (0.3 + 0.2 * i) * std::cos(2 * M_PI * (0.3 + 0.2 * i) * s.t + i);
+    }
+    s.has_acceleration = k % 2 == 0;  // both forms, and pairs across them
+    s.gravity = Vector3(0, 0, -9.81);
+    s.wrench = RigidBodyRegressor(s.twist, s.acceleration, s.gravity) * truth.vector();
+    samples.push_back(s);
+  }
+  for (EstimatorKind kind : {EstimatorKind::kGaussNewton, EstimatorKind::kGradient, EstimatorKind::kLinearRls}) {
+    OnlineEstimatorOptions o;
+    o.kind = kind;
+    OnlineBodyEstimator est(SolidSphere(1.0, 0.05), o);
+    const long allocations = AllocationsDuring([&] {
+      for (const BodySample& s : samples) est.Update(s);
+    });
+    EXPECT_EQ(allocations, 0) << ToString(kind);
+    EXPECT_GT(est.estimator().counters().accepted(), 4000u);
+  }
+}
+
+}  // namespace
+}  // namespace inertial
