@@ -77,7 +77,8 @@ void ParameterLayout::Evaluate(const Eigen::VectorXd& x, const Eigen::MatrixXd& 
   Matrix10 J;
   for (const BodyBlock& b : bodies_) {
     w.segment<10>(b.feature) += b.map.ToPi(x.segment<10>(b.parameter), &J);
-    H.middleCols<10>(b.parameter).noalias() = A.middleCols<10>(b.feature) * J;
+    // m x 10 times 10 x 10: a coefficient-based product (the blocked GEMM's packing would cost more).
+    H.middleCols<10>(b.parameter).noalias() = A.middleCols<10>(b.feature).lazyProduct(J);
   }
   for (const ScalarBlock& s : scalars_) {
     const double v = x[s.parameter];

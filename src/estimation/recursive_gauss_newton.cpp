@@ -34,9 +34,13 @@ UpdateStatus RecursiveGaussNewton::Apply(const Eigen::MatrixXd& A, const Eigen::
   // Damping: the linearization can be poor far from the estimate (a large innovation, a changed
   // payload). The Kalman step of a linear model always lowers this sample's residual; where the
   // true model's residual does not fall, the step is halved (up to max_halvings times).
+  // An ordinary sample (innovation within the Huber threshold) is taken as is: its linearization
+  // error is second order in a step that small, and the check would cost a third of the tick.
   const double before = r_.squaredNorm();
   double scale = 1.0;
-  for (int k = 0; k <= options_.max_halvings; ++k) {
+  const bool check = kalman_.normalized_innovation() > options_.kalman.huber;
+  x_trial_ = x_ + dx;
+  for (int k = 0; check && k <= options_.max_halvings; ++k) {
     x_trial_ = x_ + scale * dx;
     layout_.Coefficients(x_trial_, w_);
     r_ = y;

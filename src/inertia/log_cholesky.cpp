@@ -108,32 +108,27 @@ LogCholeskyParameterization::LogCholeskyParameterization(const InertialParams& r
 Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi_theta) const {
   if (identity_reference_) return PiFromLogCholesky(theta, J_pi_theta);
   const Matrix4 U = LogCholeskyFactor(theta);
-  const Matrix4 UJ0 = U * J0_;
-  const Vector10 pi = PiFromPseudoInertia(UJ0 * U.transpose());
+  const Matrix4 B = J0_ * U.transpose();  // J = U B
+  const Vector10 pi = PiFromPseudoInertia(U * B);
   if (J_pi_theta != nullptr) {
-    // dJ = dU J0 U^T + U J0 dU^T, and pi is linear in J.
+    // dJ = dU B + (dU B)^T, and pi is linear in J. Every dU but alpha's has a single non-zero
+    // entry v at (row, col), so dU B is v times row `col` of B placed in row `row`.
     const double ea = std::exp(theta[kAlpha]);
-    const double diag[3] = {std::exp(theta[kD1]), std::exp(theta[kD2]), std::exp(theta[kD3])};
-    auto column = [&](const Matrix4& dU) {
-      const Matrix4 A = dU * J0_ * U.transpose();
+    auto column = [&](int row, int col, double v) {
+      Matrix4 A = Matrix4::Zero();
+      A.row(row) = v * B.row(col);
       return PiFromPseudoInertia(A + A.transpose());
     };
     J_pi_theta->col(kAlpha) = 2.0 * pi;
-    const int d_index[3] = {kD1, kD2, kD3};
-    for (int i = 0; i < 3; ++i) {
-      Matrix4 dU = Matrix4::Zero();
-      dU(i, i) = ea * diag[i];
-      J_pi_theta->col(d_index[i]) = column(dU);
-    }
-    struct Entry {
-      int index, row, col;
-    };
-    const Entry entries[6] = {{kS12, 0, 1}, {kS23, 1, 2}, {kS13, 0, 2}, {kT1, 0, 3}, {kT2, 1, 3}, {kT3, 2, 3}};
-    for (const Entry& e : entries) {
-      Matrix4 dU = Matrix4::Zero();
-      dU(e.row, e.col) = ea;
-      J_pi_theta->col(e.index) = column(dU);
-    }
+    J_pi_theta->col(kD1) = column(0, 0, ea * std::exp(theta[kD1]));
+    J_pi_theta->col(kD2) = column(1, 1, ea * std::exp(theta[kD2]));
+    J_pi_theta->col(kD3) = column(2, 2, ea * std::exp(theta[kD3]));
+    J_pi_theta->col(kS12) = column(0, 1, ea);
+    J_pi_theta->col(kS23) = column(1, 2, ea);
+    J_pi_theta->col(kS13) = column(0, 2, ea);
+    J_pi_theta->col(kT1) = column(0, 3, ea);
+    J_pi_theta->col(kT2) = column(1, 3, ea);
+    J_pi_theta->col(kT3) = column(2, 3, ea);
   }
   return pi;
 }

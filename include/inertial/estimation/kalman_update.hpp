@@ -10,8 +10,9 @@
 ///
 /// Forgetting is selective: a parameter the data do not excite stops growing at its cap (its
 /// initial variance times max_variance_factor), so it cannot wind up and random-walk (the others
-/// keep forgetting). Cost O(n^2 m) (two products with P; never n^3). Only P's lower triangle is
-/// stored and updated.
+/// keep forgetting). Cost O(n^2 m) (m matrix-vector products with P and m rank-one updates; never
+/// n^3), written as vectorized column operations rather than blocked matrix products, which
+/// cost more than they save at these sizes.
 /// Robustness: samples with sqrt(d^2 / m) > gate are rejected as outliers, unless more than
 /// max_consecutive_outliers in a row arrive (then the world has changed, e.g. a payload was picked
 /// up: P is reset to its initial value around the current estimate, and samples are taken,
@@ -61,8 +62,9 @@ class KalmanUpdate {
 
   /// The covariance of x (full symmetric; allocates).
   Eigen::MatrixXd Covariance() const;
-  /// Lower triangle storage (the upper part is stale).
-  const Eigen::MatrixXd& covariance_lower() const { return P_; }
+  /// Parameters from which P is kept as its lower triangle and updated by symmetric blocked
+  /// products; below, P is kept in full and updated by vectorized column operations.
+  static constexpr int kBlockedThreshold = 32;
   /// Replaces P (symmetric, n x n); false if the size is wrong or it is not finite.
   bool SetCovariance(const Eigen::MatrixXd& P);
   const KalmanOptions& options() const { return options_; }
@@ -70,6 +72,7 @@ class KalmanUpdate {
   int num_measurements() const { return static_cast<int>(S_.rows()); }
 
  private:
+  void Predict(const Eigen::MatrixXd& H);  // PHt_ = P H^T
   bool Factor(double weight);  // S, its Cholesky factor and z for the current PHt_, r_
   KalmanOptions options_;
   Eigen::MatrixXd P_, PHt_, S_, W_;
@@ -83,6 +86,7 @@ class KalmanUpdate {
   std::uint64_t changes_ = 0;
   double normalized_innovation_ = 0.0;
   double step_scale_ = 1.0;
+  bool blocked_ = false;
 };
 
 }  // namespace inertial

@@ -19,8 +19,8 @@ struct RecursiveGaussNewtonOptions {
   /// A step that would take any |x_i| beyond this is refused (kNumerical): theta this large means
   /// density scalings of e^100, far outside any real body.
   double max_abs_parameter = 50.0;
-  /// Where the step raises the sample's residual (a poor linearization), it is halved up to this
-  /// many times.
+  /// For samples beyond the Huber threshold (large innovations, where the linearization may be
+  /// poor): where the step raises the sample's residual, it is halved up to this many times.
   int max_halvings = 4;
 };
 
