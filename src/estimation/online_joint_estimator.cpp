@@ -31,6 +31,13 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
   Eigen::VectorXd std_x(layout.num_parameters());
   std_x.setConstant(options.effect_std);
   for (const BodyBlock& b : layout.bodies()) std_x.segment<10>(b.parameter).setConstant(options.theta_std);
+  if (options.initial_std.size() != 0) {
+    if (options.initial_std.size() != layout.num_parameters()) {
+      throw std::invalid_argument("online estimator: initial_std has " + std::to_string(options.initial_std.size()) +
+                                  " entries, the model " + std::to_string(layout.num_parameters()));
+    }
+    std_x = options.initial_std;
+  }
   switch (options.kind) {
     case EstimatorKind::kGaussNewton: {
       RecursiveGaussNewtonOptions o;

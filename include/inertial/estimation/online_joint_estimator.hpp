@@ -33,6 +33,9 @@ struct OnlineEstimatorOptions {
   double theta_std = 0.3;          ///< initial uncertainty of every log-Cholesky parameter
   double effect_std = 1.0;         ///< initial uncertainty of every effect parameter (log or linear)
   double linear_std_scale = 0.3;   ///< linear RLS: initial std of each pi entry, relative to |prior| + 0.01
+  /// Per-parameter initial uncertainty (or scale, for the gradient law), overriding theta_std and
+  /// effect_std when not empty: e.g. small for links known from CAD, large for an unknown payload.
+  Eigen::VectorXd initial_std;
   KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
   GradientOptions gradient;        ///< measurement_sigma likewise
 };

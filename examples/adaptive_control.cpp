@@ -1,0 +1,113 @@
+// Embedding the online estimator in a control loop: a simulated 7-DOF arm (examples/arm7.urdf)
+// carries an unknown 2 kg payload on its flange; the controller is computed-torque control with the
+// current estimate (tau = A(q, qd, qdd_ref + Kp e + Kd de) w_hat, the estimated robot's inverse
+// dynamics), and the recursive Gauss-Newton estimator learns the payload from every control tick.
+// The tracking error falls as the estimate converges; with the prior kept fixed it grows to
+// about 1 rad (the flange sags under the unmodelled 1.5 kg). Everything per tick is allocation-free.
+//
+//   ./build/examples/adaptive_control [seconds]      (default 10)
+//
+// Prints the RMS tracking error [rad] per 50 ms window with the payload prior fixed and with the
+// estimator adapting, and the estimated payload mass [kg].
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/io/identification_report.hpp"
+#include "inertial/model/fourier_trajectory.hpp"
+
+using namespace inertial;
+
+int main(int argc, char** argv) {
+  const double seconds = argc > 1 ? std::atof(argv[1]) : 10.0;
+  if (!(seconds > 0 && seconds < 1e5)) {
+    std::fprintf(stderr, "usage: adaptive_control [seconds > 0]\n");
+    return 2;
+  }
+  const RobotModel robot = LoadUrdf(std::string(INERTIAL_SOURCE_DIR) + "/examples/arm7.urdf");
+  // The model the controller and estimator know: the URDF links plus a payload of unknown inertia
+  // on tool0 (prior: a 0.5 kg sphere). The truth: the same links with a 2 kg box 5 cm off the flange.
+  const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList("payload@tool0:mass=0.5"));
+  const int n = model.num_dofs(), payload = static_cast<int>(model.bodies().size()) - 1;
+  Eigen::VectorXd x_true = Eigen::VectorXd::Zero(model.num_parameters());
+  x_true.segment<10>(10 * payload) << 0.693, 0.2, -0.3, 0.4, 0.1, 0.0, 0.0, 0.01, -0.01, 0.05;  // ~2 kg
+  const double true_mass = model.BodyInertia(payload, x_true).mass();
+
+  // One run; per 50 ms window: RMS tracking error and the estimated payload mass.
+  auto run = [&](bool adapt) {
+    std::vector<std::pair<double, double>> windows;
+    OnlineEstimatorOptions options;
+    options.measurement_sigma = 2.0;  // a cautious estimator (it trusts each tick little)
+    // The links are known from CAD (tight priors); the payload is not.
+    options.initial_std = Eigen::VectorXd::Constant(model.num_parameters(), 1e-3);
+    options.initial_std.segment<10>(10 * payload).setConstant(1.0);
+    OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()), options);
+
+    const double dt = 1e-3;  // 1 kHz control and estimation
+    const FourierTrajectory reference = RandomFourierTrajectory(n, 4, 0.2, 0.6, 7);
+    const double kp = 100.0, kd = 20.0;
+    Eigen::VectorXd q = reference.Evaluate(0).q, qd = reference.Evaluate(0).qd, qdd_cmd(n), tau(n), qd_prev(n), q_prev(n);
+    TreeWorkspace workspace = model.MakeWorkspace();
+    Eigen::MatrixXd A(n, model.num_features());
+    JointSample sample{0.0, Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n)};
+    // The plant: the true robot's forward dynamics (mass matrix from the inverse dynamics' columns).
+    auto plant_qdd = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv, const Eigen::VectorXd& tt) {
+      const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+      const Eigen::VectorXd bias = model.InverseDynamics(x_true, qq, vv, zero);
+      const Eigen::VectorXd gravity = model.InverseDynamics(x_true, qq, zero, zero);
+      Eigen::MatrixXd M(n, n);
+      for (int k = 0; k < n; ++k) M.col(k) = model.InverseDynamics(x_true, qq, zero, Eigen::VectorXd::Unit(n, k)) - gravity;
+      return Eigen::VectorXd(M.ldlt().solve(tt - bias));
+    };
+    double sum_sq = 0;
+    int count = 0;
+    const long steps = static_cast<long>(seconds / dt);
+    for (long k = 0; k < steps; ++k) {
+      const double t = k * dt;
+      const JointTrajectoryPoint ref = reference.Evaluate(t);
+      // Computed-torque control with the current estimate (allocation-free features).
+      qdd_cmd = ref.qdd + kp * (ref.q - q) + kd * (ref.qd - qd);
+      model.Features(q, qd, qdd_cmd, &workspace, A);
+      tau.noalias() = A * estimator.coefficients();
+      // The plant moves for one tick under that torque (RK4 on the true dynamics).
+      q_prev = q;
+      qd_prev = qd;
+      const Eigen::VectorXd a1 = plant_qdd(q, qd, tau);
+      const Eigen::VectorXd a2 = plant_qdd(q + 0.5 * dt * qd, qd + 0.5 * dt * a1, tau);
+      const Eigen::VectorXd a3 = plant_qdd(q + 0.5 * dt * (qd + 0.5 * dt * a1), qd + 0.5 * dt * a2, tau);
+      const Eigen::VectorXd a4 = plant_qdd(q + dt * (qd + 0.5 * dt * a2), qd + dt * a3, tau);
+      q += dt * qd + dt * dt / 6.0 * (a1 + a2 + a3);
+      qd += dt / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4);
+      // The estimator sees what a real controller measures: positions and velocities, the torque it
+      // applied, and the acceleration as the velocity's difference (at the tick's midpoint).
+      sample.t = t + 0.5 * dt;
+      sample.q = 0.5 * (q + q_prev);
+      sample.qd = 0.5 * (qd + qd_prev);
+      sample.qdd = (qd - qd_prev) / dt;
+      sample.tau = tau;
+      if (adapt) estimator.Update(sample);
+      sum_sq += (ref.q - q_prev).squaredNorm() / n;
+      ++count;
+      if (count == 50) {
+        windows.push_back({std::sqrt(sum_sq / count), estimator.Body(payload).mass()});
+        sum_sq = 0;
+        count = 0;
+      }
+    }
+
+    return windows;
+  };
+  const auto fixed = run(false), adaptive = run(true);
+  std::printf("unknown payload: %.3f kg (prior 0.5 kg)\n", true_mass);
+  std::printf("time [s]  tracking RMS [rad]: fixed prior  adaptive   estimated payload mass [kg]\n");
+  for (size_t w = 0; w < adaptive.size(); ++w) {
+    if (w < 10 || (w + 1) % 20 == 0) {
+      std::printf("%8.2f  %29.6f  %8.6f   %8.4f\n", 0.05 * (w + 1), fixed[w].first, adaptive[w].first, adaptive[w].second);
+    }
+  }
+  return 0;
+}
