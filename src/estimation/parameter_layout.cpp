@@ -1,5 +1,6 @@
 #include "inertial/estimation/parameter_layout.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -115,6 +116,19 @@ Matrix10 ParameterLayout::BodyCovariance(int b, const Eigen::VectorXd& x, const 
   block.map.ToPi(x.segment<10>(block.parameter), &J);
   const Matrix10 Pbb = P.block<10, 10>(block.parameter, block.parameter);
   return J * Pbb * J.transpose();
+}
+
+BodyUncertainty UncertaintyOf(const InertialParams& body, const Matrix10& C) {
+  BodyUncertainty u;
+  const double m = body.mass();
+  const Vector3 h = body.first_moment();
+  u.mass = std::sqrt(std::max(0.0, C(0, 0)));
+  Eigen::Matrix<double, 3, 10> G = Eigen::Matrix<double, 3, 10>::Zero();
+  G.col(0) = -h / (m * m);
+  G.block<3, 3>(0, 1) = Matrix3::Identity() / m;
+  u.com = (G * C * G.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
+  u.inertia = C.diagonal().tail<6>().cwiseMax(0.0).cwiseSqrt();
+  return u;
 }
 
 }  // namespace inertial

@@ -183,6 +183,33 @@ TEST(OnlineBodyEstimator, GaussNewtonConvergesWithEveryTickConsistent) {
   }
 }
 
+// The COM's standard deviation through its Jacobian, against a Monte Carlo of c = h / m over
+// Gaussian pi with the same covariance (an independent, derivative-free reference).
+TEST(BodyUncertainty, ComStandardDeviationMatchesMonteCarlo) {
+  const InertialParams body = TrueBody();
+  Matrix10 L = Matrix10::Zero();
+  Rng rng(41);
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j <= i; ++j) L(i, j) = rng.Normal(i == j ? 1e-3 : 3e-4);
+  }
+  const Matrix10 C = L * L.transpose();
+  const BodyUncertainty u = UncertaintyOf(body, C);
+  EXPECT_DOUBLE_EQ(u.mass, std::sqrt(C(0, 0)));
+  Vector3 sum = Vector3::Zero(), sum_sq = Vector3::Zero();
+  const int N = 200000;
+  for (int k = 0; k < N; ++k) {
+    Vector10 z;
+    for (int i = 0; i < 10; ++i) z[i] = rng.Normal();
+    const Vector10 pi = body.vector() + L * z;
+    const Vector3 c = pi.segment<3>(1) / pi[0];
+    sum += c;
+    sum_sq += c.cwiseProduct(c);
+  }
+  const Vector3 mean = sum / N;
+  const Vector3 sd = (sum_sq / N - mean.cwiseProduct(mean)).cwiseSqrt();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(u.com[i], sd[i], 0.02 * sd[i]) << i;
+}
+
 TEST(OnlineBodyEstimator, GaussNewtonFromTwistPairsMidpointRule) {
   const InertialParams truth = TrueBody();
   OnlineBodyEstimator est(Prior(), Options(EstimatorKind::kGaussNewton, 0.05));

@@ -33,6 +33,17 @@ struct ScalarBlock {
   int size() const { return map == ScalarMap::kSpring ? 2 : 1; }
 };
 
+/// Standard deviations of a body's physical quantities, from the covariance of its pi through the
+/// Jacobian of each quantity (first order): mass [kg], COM c = h / m [m] (dc/dpi = [-h/m^2, 1/m,
+/// 0]), and the rotational inertia about the frame origin [Ixx Iyy Izz Ixy Iyz Ixz] [kg m^2].
+struct BodyUncertainty {
+  double mass = 0.0;
+  Vector3 com = Vector3::Zero();
+  Vector6 inertia = Vector6::Zero();
+};
+/// From pi and its 10 x 10 covariance. Precondition: pi's mass is positive.
+BodyUncertainty UncertaintyOf(const InertialParams& body, const Matrix10& covariance_of_pi);
+
 class ParameterLayout {
  public:
   /// @throws std::invalid_argument if a block lies outside [0, num_features) or the parameters are
