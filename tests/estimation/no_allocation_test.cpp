@@ -14,6 +14,7 @@
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
@@ -108,19 +109,8 @@ RobotDynamics Arm() {
 }
 
 JointSample SampleAt(const RobotDynamics& model, const Eigen::VectorXd& x_true, int k) {
-  const int n = model.num_dofs();
-  JointSample s;
-  s.t = 1e-3 * k;
-  s.q.resize(n);
-  s.qd.resize(n);
-  s.qdd.resize(n);
-  for (int j = 0; j < n; ++j) {
-    const double w = 2 * M_PI * (0.3 + 0.1 * j);
-    s.q[j] = 0.7 * std::sin(w * s.t + j);
-    s.qd[j] = 0.7 * w * std::cos(w * s.t + j);
-    s.qdd[j] = -0.7 * w * w * std::sin(w * s.t + j);
-  }
-  s.tau = model.InverseDynamics(x_true, s.q, s.qd, s.qdd);
+  const JointTrajectoryPoint p = RandomFourierTrajectory(model.num_dofs(), 4, 0.3, 0.7, 9).Evaluate(1e-3 * k);
+  JointSample s{1e-3 * k, p.q, p.qd, p.qdd, model.InverseDynamics(x_true, p.q, p.qd, p.qdd)};
   if (k % 500 == 250) s.tau[0] += 1000.0;                        // an outlier
   if (k % 700 == 350) s.qd[1] = std::numeric_limits<double>::quiet_NaN();  // a broken sample
   if (k % 900 == 450) s.t -= 1.0;                                // time going backwards
