@@ -45,7 +45,7 @@ UpdateStatus RecursiveGaussNewton::Apply(const Eigen::MatrixXd& A, const Eigen::
     layout_.Coefficients(x_trial_, w_);
     r_ = y;
     r_.noalias() -= A * w_;
-    if (r_.squaredNorm() <= before) break;
+    if (r_.squaredNorm() <= before || k == options_.max_halvings) break;  // the last try is taken
     scale *= 0.5;
   }
   for (int i = 0; i < x_.size(); ++i) {
