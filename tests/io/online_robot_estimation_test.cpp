@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <memory>
 #include <limits>
 
 #include "inertial/estimation/joint_identification.hpp"
@@ -52,15 +54,32 @@ const Case kLeg{"leg3.urdf", "viscous,coulomb:scale=0.05,rotor@abad:gear=6,rotor
                 {0.2, 0.2, 0.2, 0.5, 0.5, 0.5}, 0.3};
 const Case kArm{"arm7.urdf", "viscous,coulomb:scale=0.05", {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8}, 0.5};
 
+// The case's model and logs (40 s at 200 Hz of the robot perturbed from its priors), simulated
+// once per case in a process.
+struct Stream {
+  RobotDynamics model;
+  testing::SimulatedLogs logs;
+};
+const Stream& StreamOf(const Case& c) {
+  static std::map<const Case*, std::unique_ptr<Stream>> cache;
+  std::unique_ptr<Stream>& s = cache[&c];
+  if (!s) {
+    RobotDynamics model = MakeRobotDynamics(LoadUrdf(testing::Example(c.urdf)), ParseEffectList(c.effects));
+    const Eigen::VectorXd x_true = testing::TrueParameters(model, c.effect_values, 3);
+    testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, c.sigma, 40.0, 11, 200);
+    s = std::make_unique<Stream>(Stream{std::move(model), std::move(logs)});
+  }
+  return *s;
+}
+
 // Recursive Gauss-Newton over 40 s at 200 Hz: the noise-free torques of an unseen trajectory are
 // predicted to within 0.3 sigma (the batch fit on the same data reaches about 0.05 sigma: see
 // robot_identification_test; the online estimate, one pass with early linearizations far from
 // the truth, is allowed six times that), starting from a prior 10 sigma off.
 void ExpectGaussNewtonConverges(const Case& c) {
-  const RobotModel robot = LoadUrdf(testing::Example(c.urdf));
-  const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList(c.effects));
-  const Eigen::VectorXd x_true = testing::TrueParameters(model, c.effect_values, 3);
-  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, c.sigma, 40.0, 11, 200);
+  const Stream& stream = StreamOf(c);
+  const RobotDynamics& model = stream.model;
+  const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
   o.measurement_sigma = c.sigma;
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
@@ -107,10 +126,9 @@ TEST(OnlineRobotEstimation, GaussNewtonArmWithFriction) { ExpectGaussNewtonConve
 // fits every noisy sample and ends no better than the prior, 0.02 reaches 0.84), every tick
 // consistent.
 TEST(OnlineRobotEstimation, GradientLawImprovesOnThePrior) {
-  const RobotModel robot = LoadUrdf(testing::Example(kLeg.urdf));
-  const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList(kLeg.effects));
-  const Eigen::VectorXd x_true = testing::TrueParameters(model, kLeg.effect_values, 3);
-  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, kLeg.sigma, 40.0, 11, 200);
+  const Stream& stream = StreamOf(kLeg);
+  const RobotDynamics& model = stream.model;
+  const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
   o.kind = EstimatorKind::kGradient;
   o.measurement_sigma = kLeg.sigma;
@@ -130,10 +148,9 @@ TEST(OnlineRobotEstimation, GradientLawImprovesOnThePrior) {
 // samples. Every tick finite and consistent; the final error within 1.5 times the clean run's
 // (plus 0.02 sigma).
 TEST(OnlineRobotEstimation, FaultsOnTheArmStream) {
-  const RobotModel robot = LoadUrdf(testing::Example(kArm.urdf));
-  const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList(kArm.effects));
-  const Eigen::VectorXd x_true = testing::TrueParameters(model, kArm.effect_values, 3);
-  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, kArm.sigma, 40.0, 11, 200);
+  const Stream& stream = StreamOf(kArm);
+  const RobotDynamics& model = stream.model;
+  const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
   o.measurement_sigma = kArm.sigma;
   OnlineJointEstimator clean(model, Eigen::VectorXd::Zero(model.num_parameters()), o);

@@ -43,16 +43,7 @@ Vector10 PiOf(double m, const Vector3& c, const Matrix3& I_o) {
   return pi;
 }
 
-// The UrdfError message of f(), or a test failure if it does not throw one.
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UrdfError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no UrdfError thrown";
-  return "";
-}
+using testing::ErrorOf;
 
 const Matrix3 kSomeInertia = Vector3(0.02, 0.03, 0.04).asDiagonal();
 

@@ -12,7 +12,12 @@
 #include <iterator>
 #include <string>
 
+#include <functional>
+
+#include <gtest/gtest.h>
+
 #include "inertial/inertia/types.hpp"
+#include "inertial/io/urdf_model.hpp"
 
 namespace inertial::testing {
 
@@ -68,6 +73,17 @@ inline void WriteTextFile(const std::filesystem::path& path, const std::string& 
 inline std::string ReadTextFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// The UrdfError message of f(), or a test failure if it does not throw one.
+inline std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const UrdfError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no UrdfError thrown";
+  return "";
 }
 
 }  // namespace inertial::testing

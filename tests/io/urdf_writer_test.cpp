@@ -25,15 +25,7 @@ using testing::RelativeError;
 using testing::Rng;
 using testing::RobotXml;
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UrdfError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no UrdfError thrown";
-  return "";
-}
+using testing::ErrorOf;
 
 std::size_t Count(const std::string& text, const std::string& what) {
   std::size_t n = 0;

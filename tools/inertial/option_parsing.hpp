@@ -6,6 +6,7 @@
 #include <charconv>
 #include <iostream>
 #include <string>
+#include <type_traits>
 
 #include "exit_codes.hpp"
 #include "inertial/io/number_parsing.hpp"
@@ -16,6 +17,11 @@ namespace inertial::cli {
 // (not an integer) or kUsage (out of range).
 template <typename T>
 inline int ParseInteger(const std::string& text, const char* option, T lo, T hi, T* out) {
+  if (std::is_unsigned_v<T> && text.rfind('-', 0) == 0) {
+    // from_chars on an unsigned type would call "-1" not a number; it is a number out of range.
+    std::cerr << "Error: " << option << ": " << text << " is out of range (" << lo << " to " << hi << ")\n";
+    return kUsage;
+  }
   T value{};
   const char* last = text.data() + text.size();
   const std::from_chars_result r = std::from_chars(text.data(), last, value);

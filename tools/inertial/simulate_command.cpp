@@ -64,16 +64,8 @@ int RunSimulateCommand(const SimulateCommand& c) {
   if (status == kOk) status = ParseRealOption(c.noise_q, "--noise-q", 0.0, 1e6, &noise_q);
   if (status == kOk) status = ParseRealOption(c.noise_qd, "--noise-qd", 0.0, 1e6, &noise_qd);
   if (status == kOk) status = ParseRealOption(c.noise_tau, "--noise-tau", 0.0, 1e6, &noise_tau);
-  if (status == kOk && c.seed.rfind('-', 0) == 0) {
-    std::cerr << "Error: --seed: " << c.seed << " is out of range (0 to 18446744073709551615)\n";
-    status = kUsage;
-  }
   if (status == kOk) status = ParseInteger<std::uint64_t>(c.seed, "--seed", 0, UINT64_MAX, &seed);
   std::uint64_t truth_seed = 0;
-  if (status == kOk && c.truth_seed.rfind('-', 0) == 0) {
-    std::cerr << "Error: --truth-seed: " << c.truth_seed << " is out of range (0 to 18446744073709551615)\n";
-    status = kUsage;
-  }
   if (status == kOk) status = ParseInteger<std::uint64_t>(c.truth_seed, "--truth-seed", 0, UINT64_MAX, &truth_seed);
   if (status != kOk) return status;
   std::vector<double> values;

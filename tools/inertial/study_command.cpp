@@ -32,10 +32,6 @@ CLI::App* AddStudyCommand(CLI::App& app, StudyCommand* c) {
 
 int RunStudyCommand(const StudyCommand& command) {
   StudyCommand c = command;
-  if (c.seed.rfind('-', 0) == 0) {  // from_chars on an unsigned type would call "-1" not a number
-    std::cerr << "Error: --seed: " << c.seed << " is out of range (0 to 18446744073709551615)\n";
-    return kUsage;
-  }
   int status = ParseInteger<std::uint64_t>(c.seed, "--seed", 0, UINT64_MAX, &c.options.seed);
   if (status == kOk) status = ParseInteger(c.bodies, "--bodies", 1, 1000000, &c.options.bodies);
   if (status == kOk) status = ParseInteger(c.threads, "--threads", 0, 256, &c.options.threads);
