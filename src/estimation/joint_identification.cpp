@@ -52,9 +52,107 @@ JointNormalEquations AccumulateNormalEquations(const RobotDynamics& model, const
   return eq;
 }
 
+std::vector<JointNormalEquations> AccumulateJointwiseNormalEquations(const RobotDynamics& model,
+                                                                     const JointSamples& data) {
+  CheckSamples(model, data);
+  const int n = model.num_dofs(), F = model.num_features(), N = data.size();
+  constexpr int kChunk = 64;  // samples per block update
+  std::vector<JointNormalEquations> eqs(n);
+  for (JointNormalEquations& eq : eqs) {
+    eq.AtA = Eigen::MatrixXd::Zero(F, F);
+    eq.Atb = Eigen::VectorXd::Zero(F);
+    eq.num_samples = N;
+  }
+  Eigen::MatrixXd A(n, F);
+  std::vector<Eigen::MatrixXd> rows(n, Eigen::MatrixXd(kChunk, F));
+  Eigen::MatrixXd b(kChunk, n);
+  for (int start = 0; start < N; start += kChunk) {
+    const int count = std::min(kChunk, N - start);
+    for (int s = 0; s < count; ++s) {
+      const int j = start + s;
+      model.Features(data.q.row(j).transpose(), data.qd.row(j).transpose(), data.qdd.row(j).transpose(), A);
+      for (int k = 0; k < n; ++k) rows[k].row(s) = A.row(k);
+      b.row(s) = data.tau.row(j);
+    }
+    for (int k = 0; k < n; ++k) {
+      const auto block = rows[k].topRows(count);
+      eqs[k].AtA.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
+      eqs[k].Atb.noalias() += block.transpose() * b.col(k).head(count);
+      eqs[k].btb += b.col(k).head(count).squaredNorm();
+    }
+  }
+  for (JointNormalEquations& eq : eqs) eq.AtA.triangularView<Eigen::StrictlyUpper>() = eq.AtA.transpose();
+  return eqs;
+}
+
+double SquaredError(const JointNormalEquations& eq, const Eigen::VectorXd& w) {
+  return std::max(0.0, w.dot(eq.AtA * w) - 2.0 * w.dot(eq.Atb) + eq.btb);
+}
+
+Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const JointNormalEquations& data,
+                                         const std::vector<bool>& frozen_bodies) {
+  const int F = model.num_features(), P = model.num_parameters(), Fi = model.num_inertia_features();
+  if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
+    throw std::invalid_argument("identification: normal equations do not match the model's features");
+  }
+  // Effects from the unconstrained linear least-squares fit of the whole model (bodies' pi free
+  // too, so that the priors' errors do not leak into the effects; a tree body whose every estimated
+  // body is frozen keeps the prior's pi), every non-negative coefficient at least 1e-3 of its
+  // feature's natural scale sqrt(b^T b / (A_k^T A_k)) (the coefficient at which that feature alone
+  // would explain the whole torque RMS): a coefficient started at ~0 would sit on a plateau of
+  // e^s, whose gradient vanishes there.
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(P);
+  const int Fe = F - Fi;
+  if (Fe == 0) return x0;
+  const int T = Fi / 10;
+  std::vector<int> estimated(T, 0), thawed(T, 0);
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const int b = model.bodies()[e].tree_body;
+    ++estimated[b];
+    if (frozen_bodies.empty() || !frozen_bodies[e]) ++thawed[b];
+  }
+  std::vector<int> free_features;
+  for (int b = 0; b < T; ++b) {
+    if (estimated[b] == 0 || thawed[b] > 0) {
+      for (int i = 0; i < 10; ++i) free_features.push_back(10 * b + i);
+    }
+  }
+  for (int f = Fi; f < F; ++f) free_features.push_back(f);
+  const Eigen::VectorXd w_prior = model.Coefficients(Eigen::VectorXd::Zero(P));
+  Eigen::VectorXd w_fixed = w_prior;
+  for (int f : free_features) w_fixed[f] = 0.0;
+  const Eigen::VectorXd rhs_all = data.Atb - data.AtA * w_fixed;
+  const int n = static_cast<int>(free_features.size());
+  Eigen::MatrixXd M(n, n);
+  Eigen::VectorXd rhs(n);
+  for (int i = 0; i < n; ++i) {
+    rhs[i] = rhs_all[free_features[i]];
+    for (int j = 0; j < n; ++j) M(i, j) = data.AtA(free_features[i], free_features[j]);
+  }
+  M.diagonal().array() += 1e-10 * (M.diagonal().maxCoeff() + 1e-300);
+  Eigen::VectorXd c = M.ldlt().solve(rhs).tail(Fe);
+  if (!c.allFinite()) c.setZero();
+  for (const EffectTerm& t : model.effects()) {
+    if (t.kind == EffectKind::kOffset) continue;
+    const int k = t.first_feature - Fi;
+    const double natural = std::sqrt(data.btb / std::max(data.AtA(t.first_feature, t.first_feature), 1e-300));
+    c[k] = std::max(c[k], 1e-3 * natural);
+    if (t.kind == EffectKind::kSpring) c[k + 1] = std::clamp(c[k + 1], -1e3 * c[k], 1e3 * c[k]);  // |q0| <= 1e3
+  }
+  return model.ParametersFromEffectCoefficients(c, 1e-300);
+}
+
+Eigen::VectorXd PriorParametersWithoutEffects(const RobotDynamics& model) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
+  for (const EffectTerm& t : model.effects()) {
+    if (t.kind != EffectKind::kOffset) x[t.first_parameter] = std::log(1e-300);
+  }
+  return x;
+}
+
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options) {
-  const int F = model.num_features(), P = model.num_parameters(), Fi = model.num_inertia_features();
+  const int F = model.num_features(), P = model.num_parameters();
   if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
     throw std::invalid_argument("identification: normal equations do not match the model's features");
   }
@@ -62,30 +160,22 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
     throw std::invalid_argument("identification: the prior weight must be finite and non-negative");
   }
   JointIdentificationResult result;
-  // Start: priors for the bodies; effects from the unconstrained linear least-squares fit of the
-  // whole model (bodies' pi free too, so that the priors' errors do not leak into the effects),
-  // with every non-negative coefficient at least 1e-3 of its feature's natural scale sqrt(b^T b /
-  // (A_k^T A_k)) (the coefficient at which that feature alone would explain the whole torque RMS):
-  // a coefficient started at ~0 would sit on a plateau of e^s, whose gradient vanishes there.
-  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(P);
-  const int Fe = F - Fi;
-  if (Fe > 0) {
-    Eigen::MatrixXd damped = data.AtA;
-    damped.diagonal().array() += 1e-10 * (data.AtA.diagonal().maxCoeff() + 1e-300);
-    Eigen::VectorXd c = damped.ldlt().solve(data.Atb).tail(Fe);
-    if (!c.allFinite()) c.setZero();
-    for (const EffectTerm& t : model.effects()) {
-      if (t.kind == EffectKind::kOffset) continue;
-      const int k = t.first_feature - Fi;
-      const double natural = std::sqrt(data.btb / std::max(data.AtA(t.first_feature, t.first_feature), 1e-300));
-      c[k] = std::max(c[k], 1e-3 * natural);
-      if (t.kind == EffectKind::kSpring) c[k + 1] = std::clamp(c[k + 1], -1e3 * c[k], 1e3 * c[k]);  // |q0| <= 1e3
-    }
-    x0 = model.ParametersFromEffectCoefficients(c, 1e-300);
+  const int B = static_cast<int>(model.bodies().size());
+  if (!options.frozen_bodies.empty() && static_cast<int>(options.frozen_bodies.size()) != B) {
+    throw std::invalid_argument("identification: frozen_bodies must have one flag per estimated body");
+  }
+  if (options.initial.size() != 0 && (options.initial.size() != P || !options.initial.allFinite())) {
+    throw std::invalid_argument("identification: the initial parameters must be " + std::to_string(P) +
+                                " finite numbers");
+  }
+  Eigen::VectorXd x0 =
+      options.initial.size() != 0 ? options.initial : DefaultInitialParameters(model, data, options.frozen_bodies);
+  auto frozen = [&](int e) { return !options.frozen_bodies.empty() && options.frozen_bodies[e]; };
+  for (int e = 0; e < B; ++e) {
+    if (frozen(e)) x0.segment<10>(10 * e).setZero();
   }
   result.x_initial = x0;
 
-  const int B = static_cast<int>(model.bodies().size());
   const double gamma = options.prior_weight;
   Eigen::MatrixXd J_w;
   Matrix10 J_r;
@@ -130,13 +220,22 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
         H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
       }
     }
+    if (derivatives) {
+      // Frozen bodies: zero gradient and a decoupled unit Hessian block, so every step leaves them.
+      for (int e = 0; e < B; ++e) {
+        if (!frozen(e)) continue;
+        g->segment<10>(10 * e).setZero();
+        H->middleRows(10 * e, 10).setZero();
+        H->middleCols(10 * e, 10).setZero();
+        H->block<10, 10>(10 * e, 10 * e).setIdentity();
+      }
+    }
     *cost = 0.5 * (data_sq + gamma * reg);
     return std::isfinite(*cost);
   };
   result.lm = MinimizeLevenbergMarquardt(problem, x0, options.lm);
   result.x = result.lm.x;
-  const Eigen::VectorXd w = model.Coefficients(result.x);
-  result.data_cost = std::max(0.0, w.dot(data.AtA * w) - 2.0 * w.dot(data.Atb) + data.btb);
+  result.data_cost = SquaredError(data, model.Coefficients(result.x));
   for (int e = 0; e < B; ++e) {
     result.regularizer += LogDetDivergenceResiduals(model.bodies()[e].map, result.x.segment<10>(10 * e)).squaredNorm();
   }

@@ -41,13 +41,7 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& M) {
   return j;
 }
 
-// {"<joint>": value, ..., "total": value}
-nlohmann::json PerJoint(const RobotDynamics& model, const Eigen::VectorXd& per_joint, double total) {
-  nlohmann::json j = nlohmann::json::object();
-  for (int k = 0; k < model.num_dofs(); ++k) j[model.dof_names()[k]] = per_joint[k];
-  j["total"] = total;
-  return j;
-}
+}  // namespace
 
 std::vector<std::string> EffectValueNames(EffectKind kind) {
   switch (kind) {
@@ -72,7 +66,6 @@ std::vector<std::string> EffectValueUnits(EffectKind kind) {
   }
 }
 
-}  // namespace
 
 RobotDynamics MakeRobotDynamics(const RobotModel& robot, const std::vector<EffectSpec>& effects, const Vector3& gravity) {
   const LinkResolver resolve = [&robot](const std::string& link, LinkLocation* location) {
@@ -95,12 +88,8 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   start = std::chrono::steady_clock::now();
   run.fit = IdentifyJointModel(model, eq, options);
   run.fit_seconds = SecondsSince(start);
-  // The prior's own error: the URDF's bodies and no effects (offsets 0, every non-negative
-  // coefficient e^s with s = log(1e-300), i.e. zero to double precision).
-  Eigen::VectorXd x_urdf = Eigen::VectorXd::Zero(model.num_parameters());
-  for (const EffectTerm& t : model.effects()) {
-    if (t.kind != EffectKind::kOffset) x_urdf[t.first_parameter] = std::log(1e-300);
-  }
+  // The prior's own error: the URDF's bodies and no effects.
+  const Eigen::VectorXd x_urdf = PriorParametersWithoutEffects(model);
   run.prior_weight = options.prior_weight;
   run.prior_train = CompareTorques(PredictJointTorques(model, x_urdf, train), train.tau);
   run.fit_train = CompareTorques(PredictJointTorques(model, run.fit.x, train), train.tau);
@@ -200,36 +189,13 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   return out.str();
 }
 
-nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run) {
-  const JointIdentificationResult& fit = run.fit;
-  nlohmann::json j;
-  j["iterations"] = fit.lm.iterations;
-  j["stop_reason"] = std::string(ToString(fit.lm.reason));
-  j["converged"] = fit.lm.converged();
-  j["fit_seconds"] = run.fit_seconds;
-  j["prior_weight"] = run.prior_weight;
-  j["accumulate_seconds"] = run.accumulate_seconds;
-  j["train_samples"] = run.train_samples;
-  j["cost"] = {{"data", fit.data_cost}, {"regularizer", fit.regularizer}};
-  j["rms_train"] = PerJoint(model, run.fit_train.rms, run.fit_train.total_rms);
-  j["relative_rms_train"] = PerJoint(model, run.fit_train.relative_rms, run.fit_train.total_relative_rms);
-  j["rms_prior_train"] = PerJoint(model, run.prior_train.rms, run.prior_train.total_rms);
-  j["relative_rms_prior_train"] = PerJoint(model, run.prior_train.relative_rms, run.prior_train.total_relative_rms);
-  if (run.fit_validation) {
-    j["validation_samples"] = run.validation_samples;
-    j["rms_validation"] = PerJoint(model, run.fit_validation->rms, run.fit_validation->total_rms);
-    j["relative_rms_validation"] =
-        PerJoint(model, run.fit_validation->relative_rms, run.fit_validation->total_relative_rms);
-    j["rms_prior_validation"] = PerJoint(model, run.prior_validation->rms, run.prior_validation->total_rms);
-    j["relative_rms_prior_validation"] =
-        PerJoint(model, run.prior_validation->relative_rms, run.prior_validation->total_relative_rms);
-  }
-  bool all_consistent = true;
+nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, bool* all_consistent) {
+  bool consistent = true;
   nlohmann::json bodies = nlohmann::json::array();
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const InertialParams body = model.BodyInertia(e, fit.x);
+    const InertialParams body = model.BodyInertia(e, x);
     const ConsistencyReport c = CheckConsistency(body);
-    all_consistent = all_consistent && c.fully_consistent();
+    consistent = consistent && c.fully_consistent();
     const Matrix3 I = body.rotational_inertia_about_com();
     Vector3 moments;
     Matrix3 axes;
@@ -242,7 +208,7 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
     b["principal_moments"] = VectorJson(moments);
     b["principal_axes"] = MatrixJson(axes);
     b["pi"] = VectorJson(body.vector());
-    b["theta"] = VectorJson(fit.x.segment<10>(10 * e));
+    b["theta"] = VectorJson(x.segment<10>(10 * e));
     b["consistency"] = {{"mass", c.mass},
                         {"min_inertia_eigenvalue_com", c.min_inertia_eigenvalue_com},
                         {"min_triangle_margin", c.min_triangle_margin},
@@ -250,17 +216,57 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
     b["physically_consistent"] = c.fully_consistent();
     bodies.push_back(b);
   }
-  j["bodies"] = bodies;
+  if (all_consistent != nullptr) *all_consistent = consistent;
+  return bodies;
+}
+
+nlohmann::json EffectsJson(const RobotDynamics& model, const Eigen::VectorXd& x) {
   nlohmann::json effects = nlohmann::json::array();
   for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
     const EffectTerm& t = model.effects()[k];
-    const std::vector<double> v = model.EffectValues(k, fit.x);
+    const std::vector<double> v = model.EffectValues(k, x);
     const std::vector<std::string> names = EffectValueNames(t.kind);
     nlohmann::json values = nlohmann::json::object();
     for (size_t i = 0; i < v.size(); ++i) values[names[i]] = v[i];
     effects.push_back({{"effect", std::string(ToString(t.kind))}, {"joint", t.joint}, {"values", values}});
   }
-  j["effects"] = effects;
+  return effects;
+}
+
+nlohmann::json PerJointJson(const RobotDynamics& model, const Eigen::VectorXd& per_joint, double total) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < model.num_dofs(); ++k) j[model.dof_names()[k]] = per_joint[k];
+  j["total"] = total;
+  return j;
+}
+
+nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run) {
+  const JointIdentificationResult& fit = run.fit;
+  nlohmann::json j;
+  j["iterations"] = fit.lm.iterations;
+  j["stop_reason"] = std::string(ToString(fit.lm.reason));
+  j["converged"] = fit.lm.converged();
+  j["fit_seconds"] = run.fit_seconds;
+  j["prior_weight"] = run.prior_weight;
+  j["accumulate_seconds"] = run.accumulate_seconds;
+  j["train_samples"] = run.train_samples;
+  j["cost"] = {{"data", fit.data_cost}, {"regularizer", fit.regularizer}};
+  j["rms_train"] = PerJointJson(model, run.fit_train.rms, run.fit_train.total_rms);
+  j["relative_rms_train"] = PerJointJson(model, run.fit_train.relative_rms, run.fit_train.total_relative_rms);
+  j["rms_prior_train"] = PerJointJson(model, run.prior_train.rms, run.prior_train.total_rms);
+  j["relative_rms_prior_train"] = PerJointJson(model, run.prior_train.relative_rms, run.prior_train.total_relative_rms);
+  if (run.fit_validation) {
+    j["validation_samples"] = run.validation_samples;
+    j["rms_validation"] = PerJointJson(model, run.fit_validation->rms, run.fit_validation->total_rms);
+    j["relative_rms_validation"] =
+        PerJointJson(model, run.fit_validation->relative_rms, run.fit_validation->total_relative_rms);
+    j["rms_prior_validation"] = PerJointJson(model, run.prior_validation->rms, run.prior_validation->total_rms);
+    j["relative_rms_prior_validation"] =
+        PerJointJson(model, run.prior_validation->relative_rms, run.prior_validation->total_relative_rms);
+  }
+  bool all_consistent = true;
+  j["bodies"] = BodiesJson(model, fit.x, &all_consistent);
+  j["effects"] = EffectsJson(model, fit.x);
   j["physically_consistent"] = all_consistent;
   const IdentifiabilityReport& id = run.identifiability;
   nlohmann::json directions = nlohmann::json::array();

@@ -12,20 +12,19 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "csv_text.hpp"
 #include "inertial/io/number_parsing.hpp"
 
 namespace inertial {
 namespace {
 
+using csv::IsBlank;
+using csv::LineReader;
+using csv::ReadAll;
+using csv::SplitCells;
+using csv::Trim;
+
 constexpr int kListedBadLines = 5;  // line numbers named in the skipped-rows notice
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
-bool IsBlank(std::string_view s) { return s.find_first_not_of(" \t\r\n") == std::string_view::npos; }
 
 std::string ShortestText(double value) {
   char buffer[32];
@@ -37,42 +36,6 @@ std::string Join(const std::vector<std::string>& items) {
   std::string out;
   for (std::size_t k = 0; k < items.size(); ++k) out += (k ? ", " : "") + items[k];
   return out;
-}
-
-/// Splits the text into lines ('\n'; a trailing '\r' is dropped by Trim), keeping 1-based numbers.
-class LineReader {
- public:
-  explicit LineReader(std::string_view text) : text_(text) {}
-  bool Next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    const std::size_t end = text_.find('\n', pos_);
-    const std::size_t stop = end == std::string_view::npos ? text_.size() : end;
-    line = text_.substr(pos_, stop - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = stop + 1;
-    ++number_;
-    return true;
-  }
-  int number() const { return number_; }
-
- private:
-  std::string_view text_;
-  std::size_t pos_ = 0;
-  int number_ = 0;
-};
-
-void SplitCells(std::string_view line, std::vector<std::string_view>& cells) {
-  cells.clear();
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    if (comma == std::string_view::npos) {
-      cells.push_back(Trim(line.substr(start)));
-      return;
-    }
-    cells.push_back(Trim(line.substr(start, comma - start)));
-    start = comma + 1;
-  }
 }
 
 /// What a used column feeds: the time or one joint's q, qd, qdd or tau.
@@ -390,25 +353,6 @@ class CsvFileWriter {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
   std::string buffer_;
 };
-
-/// The rest of the stream as one string: one read of the known remaining size when the stream can
-/// seek (files), else chunk by chunk.
-std::string ReadAll(std::istream& in, const std::string& source_name) {
-  std::string text;
-  const std::istream::pos_type start = in.tellg();
-  if (start != std::istream::pos_type(-1) && in.seekg(0, std::ios::end)) {
-    const std::istream::pos_type end = in.tellg();
-    in.seekg(start);
-    if (end != std::istream::pos_type(-1) && end >= start) text.resize(static_cast<std::size_t>(end - start));
-  }
-  in.clear();
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) text.append(chunk, static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw CsvError(source_name + ": read error");
-  return text;
-}
 
 }  // namespace
 

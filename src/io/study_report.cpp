@@ -1,8 +1,5 @@
 #include "inertial/io/study_report.hpp"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +7,8 @@
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+
+#include "inertial/io/gnuplot.hpp"
 
 namespace inertial {
 namespace {
@@ -30,24 +29,6 @@ std::vector<int> Histogram(const StudyResult& result, int method) {
     }
   }
   return counts;
-}
-
-// Runs `gnuplot SCRIPT` inside `dir` without a shell (no quoting issues with the directory name).
-void RunGnuplot(const std::filesystem::path& dir, const std::string& script) {
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error(std::string("fork() for gnuplot failed: ") + std::strerror(errno));
-  if (pid == 0) {
-    if (chdir(dir.c_str()) != 0) _exit(126);
-    execlp("gnuplot", "gnuplot", script.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) throw std::runtime_error(std::string("waitpid() for gnuplot failed: ") + std::strerror(errno));
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    throw std::runtime_error("gnuplot " + script + " in '" + dir.string() + "' failed (exit status " +
-                             std::to_string(code) + (code == 127 ? ": gnuplot not found on PATH" : "") + ")");
-  }
 }
 
 std::string Percent(int count, int total) {

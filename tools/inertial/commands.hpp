@@ -65,4 +65,22 @@ struct SimulateCommand {
 CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);
 
+struct DiagnoseCommand {
+  std::string model, data, validate, effects, report_dir, prior;
+  std::string holdout;  ///< empty: 0.3 unless --validate
+  bool body = false;
+  bool hold_links = false;
+  bool json = false;
+  std::string min_explained = "0.02";
+  std::string prior_weight = "0.01";
+  std::string max_iterations = "1000";
+  std::string gravity = "0 0 -9.81";
+  std::string sg_order = "4";
+  std::string sg_window = "0.1";
+  std::string threads = "0";
+  bool skip_bad_rows = false;
+};
+CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);
+int RunDiagnoseCommand(const DiagnoseCommand& command);
+
 }  // namespace inertial::cli

@@ -10,6 +10,7 @@
 #include "inertial/io/joint_csv.hpp"
 #include "inertial/io/urdf_writer.hpp"
 #include "option_parsing.hpp"
+#include "robot_inputs.hpp"
 
 namespace inertial::cli {
 
@@ -99,58 +100,17 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
   if (status != kOk) return status;
   Vector3 gravity;
-  try {
-    const std::vector<double> g = ParseNumberList(c.gravity, "--gravity");
-    if (g.size() != 3) {
-      std::cerr << "Error: --gravity: " << g.size() << " numbers given, 3 expected\n";
-      return kUsage;
-    }
-    gravity = Vector3(g[0], g[1], g[2]);
-  } catch (const InvalidNumber& e) {
-    std::cerr << "Error: " << e.what() << "\n";
-    return kInvalidValue;
-  }
-  std::vector<EffectSpec> effects;
-  try {
-    effects = ParseEffectList(c.effects);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --effects: " << e.what() << "\n";
-    return kUsage;
-  }
-
+  status = ParseGravityOption(c.gravity, &gravity);
+  if (status != kOk) return status;
   RobotModel robot;
-  try {
-    robot = LoadUrdf(c.model);
-  } catch (const UrdfError& e) {
-    std::cerr << "Error: " << e.what() << "\n";
-    if (std::string(e.what()).find("not physically consistent") != std::string::npos) {
-      std::cerr << "hint: `inertial check " << c.model << " --repair fixed.urdf` writes the nearest consistent inertias\n";
-      return kInconsistentBody;
-    }
-    return kIoError;
-  }
+  std::vector<EffectSpec> effects;
   std::optional<RobotDynamics> model;
-  try {
-    model.emplace(MakeRobotDynamics(robot, effects, gravity));
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --effects: " << e.what() << "\n";
-    return kUsage;
-  }
-
+  status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
+  if (status != kOk) return status;
   JointSamples train, validation;
-  try {
-    JointCsvReport report;
-    train = ReadJointCsv(c.data, robot.dof_names, csv, &report);
-    for (const std::string& n : report.notices) std::cerr << "note: " << n << "\n";
-    if (!c.validate.empty()) {
-      JointCsvReport vreport;
-      validation = ReadJointCsv(c.validate, robot.dof_names, csv, &vreport);
-      for (const std::string& n : vreport.notices) std::cerr << "note: " << n << "\n";
-    }
-  } catch (const CsvError& e) {
-    std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
-  }
+  status = ReadRobotLog(c.data, robot, csv, &train);
+  if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
+  if (status != kOk) return status;
   if (train.size() < 2) {
     std::cerr << "Error: " << c.data << ": " << train.size() << " samples; identification needs more\n";
     return kInvalidValue;

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   CLI::App* check_app = AddCheckCommand(app, &check);
   SimulateCommand simulate;
   CLI::App* simulate_app = AddSimulateCommand(app, &simulate);
+  DiagnoseCommand diagnose;
+  CLI::App* diagnose_app = AddDiagnoseCommand(app, &diagnose);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -37,6 +39,7 @@ int main(int argc, char** argv) {
     if (identify_app->parsed()) return RunIdentifyCommand(identify);
     if (check_app->parsed()) return RunCheckCommand(check);
     if (simulate_app->parsed()) return RunSimulateCommand(simulate);
+    if (diagnose_app->parsed()) return RunDiagnoseCommand(diagnose);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;

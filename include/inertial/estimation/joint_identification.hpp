@@ -32,6 +32,15 @@ struct JointNormalEquations {
 /// @throws std::invalid_argument if the samples' joints differ from the model's DOFs or sizes disagree.
 JointNormalEquations AccumulateNormalEquations(const RobotDynamics& model, const JointSamples& data);
 
+/// The same statistics for each joint's rows alone (element k: the torque equations of DOF k), so
+/// that per-joint errors of any w follow without the data: their sum is AccumulateNormalEquations.
+/// @throws as AccumulateNormalEquations.
+std::vector<JointNormalEquations> AccumulateJointwiseNormalEquations(const RobotDynamics& model,
+                                                                     const JointSamples& data);
+
+/// ||A w - tau||^2 from the statistics: w^T A^T A w - 2 w^T A^T tau + tau^T tau (floored at 0).
+double SquaredError(const JointNormalEquations& eq, const Eigen::VectorXd& w);
+
 struct JointIdentificationOptions {
   double prior_weight = 1e-2;  ///< gamma of eq. 14 (the paper's value)
   /// Stops when an iteration lowers the cost by less than 1e-7 of it (or on tiny steps or
@@ -42,6 +51,11 @@ struct JointIdentificationOptions {
   /// of w(x), LogCholeskyParameterization::ContractedHessian) instead of Gauss-Newton. The damping
   /// keeps every step a descent step where that Hessian is indefinite.
   bool newton = true;
+  /// One flag per estimated body (model.bodies() order), or empty: a flagged body is held at its
+  /// prior (theta = 0), e.g. links whose URDF inertias are trusted while payloads are fitted.
+  std::vector<bool> frozen_bodies;
+  /// Start of the fit (size num_parameters), or empty for the default start below.
+  Eigen::VectorXd initial;
 };
 
 struct JointIdentificationResult {
@@ -52,9 +66,19 @@ struct JointIdentificationResult {
   DenseLevenbergMarquardtResult lm;
 };
 
-/// Fits from the priors (theta = 0); effect coefficients start at their values in the linear
-/// least-squares fit of the whole model, non-negative ones floored at 1e-3 of their feature's natural
-/// scale (see the implementation).
+/// The default start of IdentifyJointModel: the priors (theta = 0); effect coefficients at their
+/// values in the linear least-squares fit of the whole model (frozen bodies held at their priors),
+/// non-negative ones floored at 1e-3 of their feature's natural scale (see the implementation).
+Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const JointNormalEquations& data,
+                                         const std::vector<bool>& frozen_bodies = {});
+
+/// The priors without any effect: theta = 0, offsets 0, every non-negative coefficient e^s with
+/// s = log(1e-300) (zero to double precision), spring q0 = 0: the URDF's own prediction.
+Eigen::VectorXd PriorParametersWithoutEffects(const RobotDynamics& model);
+
+/// Fits from options.initial, or from DefaultInitialParameters.
+/// @throws std::invalid_argument if the statistics, the start or frozen_bodies do not match the
+/// model, or the prior weight is negative or not finite.
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options = {});
 

@@ -47,4 +47,15 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
 /// physically_consistent (all bodies), unidentified{rank, parameters, directions[{description, terms}]}}.
 nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run);
 
+/// The "bodies" array of IdentificationJson at x; *all_consistent (optional) tells whether every
+/// body passed the consistency check.
+nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, bool* all_consistent = nullptr);
+/// The "effects" array of IdentificationJson at x.
+nlohmann::json EffectsJson(const RobotDynamics& model, const Eigen::VectorXd& x);
+/// {"<joint>": value, ..., "total": total}.
+nlohmann::json PerJointJson(const RobotDynamics& model, const Eigen::VectorXd& per_joint, double total);
+/// The names and units of effect values ("b" in "N m s/rad", ...) for revolute joints.
+std::vector<std::string> EffectValueNames(EffectKind kind);
+std::vector<std::string> EffectValueUnits(EffectKind kind);
+
 }  // namespace inertial

@@ -1,0 +1,66 @@
+/// @file body_diagnosis.hpp
+/// Fitting a single rigid body with sensor effects (body_effect_model.hpp) by Levenberg-Marquardt
+/// over x (theta and the effects' parameters: every iterate a consistent body), and finding which
+/// effect the model lacks on held-out data, as joint_diagnosis.hpp does for robots: each candidate
+/// of force_bias, moment_bias, velocity_bias and gravity the model lacks is added on its own, the
+/// model refitted on the training log, and ranked by the share of the held-out mean-square wrench
+/// error it removes, averaged over the six wrench components (explained_error.hpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "inertial/estimation/dense_levenberg_marquardt.hpp"
+#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/model/body_effect_model.hpp"
+
+namespace inertial {
+
+struct BodyFit {
+  Eigen::VectorXd x;
+  DenseLevenbergMarquardtResult lm;
+};
+
+/// Minimizes 0.5 sum_pairs ||predicted - measured||^2 from `initial` (empty: the prior, zero
+/// effects). @throws std::invalid_argument if the log has fewer than 2 samples or sizes disagree.
+BodyFit FitBodyModel(const BodyEffectModel& model, const BodyLog& log, const LevenbergMarquardtOptions& options,
+                     const Eigen::VectorXd& initial = Eigen::VectorXd());
+
+/// RMS of the residuals per wrench component [mx my mz fx fy fz], their totals pooled (relative:
+/// to the RMS of the measured wrench).
+TorqueErrors WrenchErrors(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& log);
+
+struct BodyDiagnosisOptions {
+  /// Generous caps: a velocity bias makes the problem strongly nonlinear.
+  LevenbergMarquardtOptions fit{500, 1e-10, 1e-10, 1e-10, 1e-3, true};
+  double min_explained = 0.02;  ///< as JointDiagnosisOptions::min_explained
+};
+
+struct BodyCandidateResult {
+  BodyEffectKind kind = BodyEffectKind::kForceBias;
+  TorqueErrors validation;
+  double explained = 0.0;
+  bool converged = false;
+  int iterations = 0;
+  Eigen::VectorXd values;  ///< the fitted effect parameters
+};
+
+struct BodyDiagnosis {
+  std::vector<BodyEffectKind> effects;
+  BodyFit fit;
+  TorqueErrors fit_train, fit_validation, prior_validation;
+  std::vector<BodyCandidateResult> candidates;  ///< best first
+  int num_suggestions = 0;
+  int train_pairs = 0, validation_pairs = 0;
+  double seconds = 0.0;
+};
+
+BodyDiagnosis DiagnoseBodyModel(const InertialParams& prior, const std::vector<BodyEffectKind>& effects,
+                                const BodyLog& train, const BodyLog& validation,
+                                const BodyDiagnosisOptions& options = {});
+
+/// The last `fraction` of the samples as held-out data. @throws std::invalid_argument unless
+/// 0 < fraction < 1 and both parts keep at least 3 samples.
+void SplitHoldout(const BodyLog& log, double fraction, BodyLog* train, BodyLog* validation);
+
+}  // namespace inertial

@@ -1,0 +1,65 @@
+/// @file diagnosis_report.hpp
+/// Output of `inertial diagnose`: the text report, the JSON document, the one-line physical
+/// explanation of each candidate effect, and the --report page (diagnosis_html.hpp), for robots
+/// (joint_diagnosis.hpp) and single bodies (body_diagnosis.hpp).
+///
+/// JSON (robots): rms_validation {joint..., total}, relative_rms_validation, rms_prior (the URDF
+/// without effects, held-out), rms_links_only (with --effects: the links alone), rms_train, effects
+/// (the model's, with fitted values), suggestions [{effect, joint | link, rms_validation_after
+/// {joint..., total}, explained, explanation, values}], candidates (every one tested, same fields,
+/// with suggested), physically_consistent, bodies (identified parameters, as identify's JSON),
+/// where_it_fails {worst_windows [{t_start, t_end, rms, worst_joint}], joints {j: {mean,
+/// velocity_sign_step, viscous_slope, acceleration_slope, position_slope, torque_slope,
+/// correlations{...}, explained}}}, min_explained, notes, seconds, samples.
+/// Single bodies: the same keys, channels mx..fz instead of joints, suggestions with "target":
+/// "body", and "body" (mass, com, inertia, pi, theta, physically_consistent) instead of bodies.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "inertial/estimation/body_diagnosis.hpp"
+#include "inertial/estimation/joint_diagnosis.hpp"
+#include "inertial/estimation/residual_analysis.hpp"
+
+namespace inertial {
+
+/// Everything the robot report needs: the model diagnosed and the residuals of its fit on the
+/// held-out data.
+struct JointDiagnosisContext {
+  const RobotDynamics* model = nullptr;  ///< the model diagnosed (its effects)
+  const JointDiagnosis* diagnosis = nullptr;
+  const JointSamples* validation = nullptr;
+  std::string validation_source;  ///< e.g. "test.csv" or "the last 30 % of train.csv"
+  double min_explained = 0.02;
+  Eigen::MatrixXd predicted;       ///< the fitted model's torques on the held-out samples
+  ResidualAnalysis residuals;      ///< of those predictions
+};
+
+/// Fills predicted and residuals (1 s windows, the 3 worst).
+JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
+                                                const JointSamples& validation, const std::string& validation_source,
+                                                double min_explained);
+
+/// One line: what the residual shows and what is missing, with the fitted coefficient.
+std::string CandidateExplanation(const JointDiagnosisContext& c, const CandidateResult& candidate);
+
+std::string JointDiagnosisText(const JointDiagnosisContext& c);
+nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c);
+/// @throws std::runtime_error from gnuplot or file writes.
+void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosisContext& c, const std::string& text);
+
+struct BodyDiagnosisContext {
+  const BodyDiagnosis* diagnosis = nullptr;
+  const BodyLog* validation = nullptr;
+  InertialParams prior;
+  std::string validation_source;
+  double min_explained = 0.02;
+};
+
+std::string BodyCandidateExplanation(const BodyCandidateResult& candidate);
+std::string BodyDiagnosisText(const BodyDiagnosisContext& c);
+nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c);
+void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisContext& c, const std::string& text);
+
+}  // namespace inertial

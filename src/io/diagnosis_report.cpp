@@ -1,0 +1,445 @@
+#include "inertial/io/diagnosis_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/io/diagnosis_html.hpp"
+#include "inertial/io/identification_report.hpp"
+
+namespace inertial {
+namespace {
+
+std::string F(double x, const char* format = "%.3g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, x);
+  std::string s = buf;
+  if (s == "-0") s = "0";
+  return s;
+}
+
+std::string Percent(double share) { return F(100.0 * share, "%.1f") + " %"; }
+
+int DofIndex(const RobotDynamics& model, const std::string& joint) {
+  for (int k = 0; k < model.num_dofs(); ++k) {
+    if (model.dof_names()[k] == joint) return k;
+  }
+  return -1;
+}
+
+const char* kWrenchChannels[6] = {"mx", "my", "mz", "fx", "fy", "fz"};
+
+nlohmann::json Channels(const Eigen::VectorXd& v, double total) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < 6; ++k) j[kWrenchChannels[k]] = v[k];
+  j["total"] = total;
+  return j;
+}
+
+std::string Vec3(const Eigen::VectorXd& v, int start = 0) {
+  return "[" + F(v[start]) + ", " + F(v[start + 1]) + ", " + F(v[start + 2]) + "]";
+}
+
+// "  name: prior -> fit" rows of an error table.
+void ErrorTable(std::ostringstream& out, const std::vector<std::string>& names, const TorqueErrors& before,
+                const TorqueErrors& after, const std::string& unit) {
+  for (size_t k = 0; k < names.size(); ++k) {
+    out << "  " << names[k] << ": " << F(before.rms[k], "%.4g") << " (" << Percent(before.relative_rms[k]) << ") -> "
+        << F(after.rms[k], "%.4g") << " (" << Percent(after.relative_rms[k]) << ") " << unit << "\n";
+  }
+  out << "  all: " << F(before.total_rms, "%.4g") << " (" << Percent(before.total_relative_rms) << ") -> "
+      << F(after.total_rms, "%.4g") << " (" << Percent(after.total_relative_rms) << ") " << unit << "\n";
+}
+
+// The explanation of a candidate the held-out data do not support.
+std::string NotSuggested(double explained) {
+  return explained >= 0.0 ? "not supported by the held-out data: it removes only " + Percent(explained) + " of the error"
+                          : "not supported by the held-out data: it makes the held-out error worse by " +
+                                Percent(-explained) + " (it fits noise or another effect on the training data)";
+}
+
+}  // namespace
+
+JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
+                                                const JointSamples& validation, const std::string& validation_source,
+                                                double min_explained) {
+  JointDiagnosisContext c;
+  c.model = &model;
+  c.diagnosis = &diagnosis;
+  c.validation = &validation;
+  c.validation_source = validation_source;
+  c.min_explained = min_explained;
+  c.predicted = PredictJointTorques(model, diagnosis.fit.x, validation);
+  c.residuals = AnalyzeResiduals(validation, c.predicted, 1.0, 3);
+  return c;
+}
+
+std::string CandidateExplanation(const JointDiagnosisContext& c, const CandidateResult& r) {
+  if (r.spec.kind == EffectKind::kPayload) {
+    const InertialParams p = InertialParams::FromVector(Eigen::Map<const Vector10>(r.values.data()));
+    return r.link + " carries more than its URDF says: a payload of " + F(p.mass()) + " kg with its centre of mass at " +
+           Vec3(p.com()) + " m (in the frame of " + r.link +
+           "'s rigid body) explains the error (or the URDF inertia of that body is wrong)";
+  }
+  const int k = DofIndex(*c.model, r.joint);
+  const JointResidualSignature* s = k >= 0 ? &c.residuals.joints[k] : nullptr;
+  auto coefficient = [&](ResidualSignal signal) { return s != nullptr ? std::abs(s->alone[signal]) : 0.0; };
+  const std::string j = r.joint;
+  switch (r.spec.kind) {
+    case EffectKind::kCoulomb:
+      return "the " + j + " residual steps by " + F(2.0 * coefficient(kVelocitySign)) +
+             " N m where the velocity changes sign: Coulomb (dry) friction of " + F(r.values[0]) + " N m is missing";
+    case EffectKind::kViscous:
+      return "the " + j + " residual grows in proportion to velocity (" + F(coefficient(kVelocity)) +
+             " N m s/rad): viscous friction b = " + F(r.values[0]) + " N m s/rad is missing";
+    case EffectKind::kOffset:
+      return "the " + j + " residual has a constant part of " + F(coefficient(kResidualMean)) +
+             " N m: a torque-sensor offset (zero-torque calibration) of " + F(r.values[0]) + " N m is missing";
+    case EffectKind::kArmature:
+      return "the " + j + " residual follows the acceleration (" + F(coefficient(kAcceleration)) +
+             " kg m^2): reflected rotor inertia (armature) Ia = " + F(r.values[0]) + " kg m^2 is missing";
+    case EffectKind::kSpring:
+      return "the " + j + " residual grows with position (" + F(coefficient(kPosition)) + " N m/rad): a spring k = " +
+             F(r.values[0]) + " N m/rad about q0 = " + F(r.values.size() > 1 ? r.values[1] : 0.0) +
+             " rad (cable, hose, gravity compensator) is missing";
+    default: return r.name;
+  }
+}
+
+std::string JointDiagnosisText(const JointDiagnosisContext& c) {
+  const RobotDynamics& model = *c.model;
+  const JointDiagnosis& d = *c.diagnosis;
+  std::ostringstream out;
+  out << "Diagnosis: links";
+  for (const EffectSpec& e : d.effects) out << " + " << e.text;
+  out << " (" << model.num_parameters() << " parameters), fitted on " << d.train_samples << " samples, judged on "
+      << d.validation_samples << " held-out samples (" << c.validation_source << ")";
+  const bool held = std::find(d.frozen_bodies.begin(), d.frozen_bodies.end(), true) != d.frozen_bodies.end();
+  out << (held ? "; links held at the URDF" : "") << "\n";
+  out << "  fit: " << d.fit.lm.iterations << " iterations, " << (d.fit.lm.converged() ? "converged" : "NOT converged")
+      << "; diagnosis " << F(d.seconds, "%.2f") << " s\n\n";
+  out << "Held-out torque error, RMS (relative): URDF prior -> fitted model\n";
+  ErrorTable(out, model.dof_names(), d.prior_validation, d.fit_validation, "N m");
+  if (d.links_only_validation) {
+    out << "\nWhat the effects bring, held-out RMS: links only -> links";
+    for (const EffectSpec& e : d.effects) out << " + " << e.text;
+    out << "\n";
+    ErrorTable(out, model.dof_names(), *d.links_only_validation, d.fit_validation, "N m");
+  }
+  out << "\nWhere it fails (held-out residual of the fitted model)\n  worst 1 s windows:";
+  for (const ResidualWindow& w : c.residuals.worst_windows) {
+    out << " t = " << F(w.t_start, "%.1f") << "-" << F(w.t_end, "%.1f") << " s RMS " << F(w.rms) << " (worst "
+        << model.dof_names()[w.worst_joint] << ");";
+  }
+  out << "\n  residual ~ c0 + c1 sign(qd) + c2 qd + c3 qdd + c4 (q - mean q), per joint (and its slope on tau alone):\n";
+  for (int k = 0; k < model.num_dofs(); ++k) {
+    const JointResidualSignature& s = c.residuals.joints[k];
+    out << "  " << model.dof_names()[k] << ": RMS " << F(s.rms) << "; c0 " << F(s.coefficients[kResidualMean])
+        << ", step at reversal " << F(2 * s.coefficients[kVelocitySign]) << ", c2 " << F(s.coefficients[kVelocity])
+        << ", c3 " << F(s.coefficients[kAcceleration]) << ", c4 " << F(s.coefficients[kPosition]) << " (explains "
+        << Percent(s.explained) << "); slope on tau " << F(s.alone[kTorque]) << "\n";
+  }
+  out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (averaged over "
+         "joints; suggested from "
+      << Percent(c.min_explained) << ")\n";
+  if (d.num_suggestions == 0) {
+    out << "  No missing effect found: no candidate removes " << Percent(c.min_explained) << " of the held-out error";
+    if (!d.candidates.empty()) {
+      out << " (best: " << d.candidates[0].name << ", " << Percent(d.candidates[0].explained) << ")";
+    }
+    out << ". The model explains these data as well as any effect of the catalog would.\n";
+  }
+  for (int i = 0; i < d.num_suggestions; ++i) {
+    const CandidateResult& r = d.candidates[i];
+    out << "  " << i + 1 << ". " << r.name << ": explains " << Percent(r.explained) << "; held-out RMS "
+        << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g") << " N m";
+    const int k = DofIndex(model, r.joint);
+    if (k >= 0) {
+      out << " (" << r.joint << " " << F(d.fit_validation.rms[k], "%.4g") << " -> " << F(r.validation.rms[k], "%.4g")
+          << ")";
+    }
+    out << "\n     " << CandidateExplanation(c, r) << "\n";
+  }
+  const int shown = std::min<int>(static_cast<int>(d.candidates.size()), d.num_suggestions + 3);
+  if (shown > d.num_suggestions) {
+    out << "  not suggested (next best):";
+    for (int i = d.num_suggestions; i < shown; ++i) {
+      out << " " << d.candidates[i].name << " " << Percent(d.candidates[i].explained) << ";";
+    }
+    out << "\n";
+  }
+  for (const std::string& note : d.notes) out << "  note: " << note << "\n";
+  if (d.num_suggestions > 0) {
+    out << "\nNext: add the top suggestion (--effects ";
+    bool first = true;
+    for (const EffectSpec& e : d.effects) {
+      out << (first ? "" : ",") << e.text;
+      first = false;
+    }
+    out << (first ? "" : ",") << d.candidates[0].name
+        << ") and run again: what it explained leaves the ranking, what remains is ranked anew.\n";
+  }
+  bool consistent = true;
+  BodiesJson(model, d.fit.x, &consistent);
+  out << "\n"
+      << (consistent ? "Every identified body is physically consistent."
+                     : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
+      << "\n";
+  return out.str();
+}
+
+nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
+  const RobotDynamics& model = *c.model;
+  const JointDiagnosis& d = *c.diagnosis;
+  nlohmann::json j;
+  j["samples"] = {{"train", d.train_samples}, {"validation", d.validation_samples}};
+  j["validation_source"] = c.validation_source;
+  j["rms_validation"] = PerJointJson(model, d.fit_validation.rms, d.fit_validation.total_rms);
+  j["relative_rms_validation"] = PerJointJson(model, d.fit_validation.relative_rms, d.fit_validation.total_relative_rms);
+  j["rms_prior"] = PerJointJson(model, d.prior_validation.rms, d.prior_validation.total_rms);
+  if (d.links_only_validation) {
+    j["rms_links_only"] = PerJointJson(model, d.links_only_validation->rms, d.links_only_validation->total_rms);
+  }
+  j["rms_train"] = PerJointJson(model, d.fit_train.rms, d.fit_train.total_rms);
+  j["effects"] = EffectsJson(model, d.fit.x);
+  bool consistent = true;
+  j["bodies"] = BodiesJson(model, d.fit.x, &consistent);
+  j["physically_consistent"] = consistent;
+  j["iterations"] = d.fit.lm.iterations;
+  j["converged"] = d.fit.lm.converged();
+  j["links_held_at_urdf"] = std::find(d.frozen_bodies.begin(), d.frozen_bodies.end(), true) != d.frozen_bodies.end();
+  nlohmann::json suggestions = nlohmann::json::array(), candidates = nlohmann::json::array();
+  for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
+    const CandidateResult& r = d.candidates[i];
+    nlohmann::json s;
+    s["effect"] = std::string(ToString(r.spec.kind));
+    if (!r.joint.empty()) s["joint"] = r.joint;
+    if (!r.link.empty()) s["link"] = r.link;
+    s["name"] = r.name;
+    s["rms_validation_after"] = PerJointJson(model, r.validation.rms, r.validation.total_rms);
+    s["explained"] = r.explained;
+    s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r) : NotSuggested(r.explained);
+    s["values"] = r.values;
+    s["converged"] = r.converged;
+    s["suggested"] = i < d.num_suggestions;
+    if (i < d.num_suggestions) suggestions.push_back(s);
+    candidates.push_back(s);
+  }
+  j["suggestions"] = suggestions;
+  j["candidates"] = candidates;
+  j["min_explained"] = c.min_explained;
+  j["notes"] = d.notes;
+  j["seconds"] = d.seconds;
+  nlohmann::json windows = nlohmann::json::array();
+  for (const ResidualWindow& w : c.residuals.worst_windows) {
+    windows.push_back({{"t_start", w.t_start}, {"t_end", w.t_end}, {"rms", w.rms},
+                       {"worst_joint", model.dof_names()[w.worst_joint]}});
+  }
+  nlohmann::json joints = nlohmann::json::object();
+  const char* names[kResidualSignals] = {"mean", "velocity_sign", "velocity", "acceleration", "position", "torque"};
+  for (int k = 0; k < model.num_dofs(); ++k) {
+    const JointResidualSignature& s = c.residuals.joints[k];
+    nlohmann::json correlations = nlohmann::json::object();
+    for (int q = 1; q < kResidualSignals; ++q) correlations[names[q]] = s.correlations[q];
+    joints[model.dof_names()[k]] = {{"rms", s.rms},
+                                    {"mean", s.coefficients[kResidualMean]},
+                                    {"velocity_sign_step", 2 * s.coefficients[kVelocitySign]},
+                                    {"viscous_slope", s.coefficients[kVelocity]},
+                                    {"acceleration_slope", s.coefficients[kAcceleration]},
+                                    {"position_slope", s.coefficients[kPosition]},
+                                    {"torque_slope", s.alone[kTorque]},
+                                    {"correlations", correlations},
+                                    {"explained", s.explained}};
+  }
+  j["where_it_fails"] = {{"worst_windows", windows}, {"joints", joints}};
+  return j;
+}
+
+void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosisContext& c, const std::string& text) {
+  const RobotDynamics& model = *c.model;
+  const JointDiagnosis& d = *c.diagnosis;
+  DiagnosisPlotData p;
+  p.title = "inertial diagnose";
+  p.channels = model.dof_names();
+  p.unit = "N m";
+  p.velocity_label = "joint velocity [rad/s]";
+  p.t = c.validation->t;
+  p.measured = c.validation->tau;
+  p.predicted = c.predicted;
+  p.velocity = c.validation->qd;
+  p.error_labels.push_back("URDF prior");
+  p.error_rms.push_back(d.prior_validation.rms);
+  if (d.links_only_validation) {
+    p.error_labels.push_back("links only");
+    p.error_rms.push_back(d.links_only_validation->rms);
+  }
+  std::string label = "fitted model";
+  for (const EffectSpec& e : d.effects) label += " + " + e.text;
+  p.error_labels.push_back(label);
+  p.error_rms.push_back(d.fit_validation.rms);
+  for (int i = 0; i < std::min(3, d.num_suggestions); ++i) {
+    p.error_labels.push_back("+ " + d.candidates[i].name);
+    p.error_rms.push_back(d.candidates[i].validation.rms);
+  }
+  std::vector<DiagnosisTableRow> rows;
+  for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
+    const CandidateResult& r = d.candidates[i];
+    rows.push_back({std::string(ToString(r.spec.kind)), r.joint.empty() ? r.link : r.joint, r.explained,
+                    r.validation.total_rms, i < d.num_suggestions,
+                    i < d.num_suggestions ? CandidateExplanation(c, r) : NotSuggested(r.explained)});
+  }
+  std::vector<std::string> summary{
+      "Held-out RMS torque error: URDF prior " + F(d.prior_validation.total_rms, "%.4g") + " N m, fitted model " +
+          F(d.fit_validation.total_rms, "%.4g") + " N m (" + std::to_string(d.validation_samples) + " samples, " +
+          c.validation_source + ").",
+      d.num_suggestions == 0 ? "No missing effect found: no candidate removes " + Percent(c.min_explained) +
+                                   " of the held-out error."
+                             : "Top suggestion: " + d.candidates[0].name + " (" + CandidateExplanation(c, d.candidates[0]) +
+                                   "); held-out RMS with it " + F(d.candidates[0].validation.total_rms, "%.4g") +
+                                   " N m."};
+  WriteDiagnosisHtml(directory, p, summary, rows, text);
+}
+
+std::string BodyCandidateExplanation(const BodyCandidateResult& r) {
+  const Eigen::VectorXd& v = r.values;
+  switch (r.kind) {
+    case BodyEffectKind::kForceBias:
+      return "a constant force of " + Vec3(v) + " N on the sensor reading (offset, cable drag) is missing";
+    case BodyEffectKind::kMomentBias:
+      return "a constant moment of " + Vec3(v) + " N m on the sensor reading is missing";
+    case BodyEffectKind::kVelocityBias:
+      return "the measured twist is biased by [" + F(v[0]) + ", " + F(v[1]) + ", " + F(v[2]) + "] rad/s, [" + F(v[3]) +
+             ", " + F(v[4]) + ", " + F(v[5]) + "] m/s (an uncalibrated gyro or velocity estimate)";
+    case BodyEffectKind::kGravity:
+      return "gravity (or a constant acceleration of the frame) of " + Vec3(v) +
+             " m/s^2 in the body frame is missing from the model";
+  }
+  return "";
+}
+
+std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
+  const BodyDiagnosis& d = *c.diagnosis;
+  const BodyEffectModel model(c.prior, d.effects);
+  std::ostringstream out;
+  out << "Diagnosis: single body";
+  for (BodyEffectKind e : d.effects) out << " + " << ToString(e);
+  out << ", fitted on " << d.train_pairs << " sample pairs (eq. 13), judged on " << d.validation_pairs
+      << " held-out pairs (" << c.validation_source << ")\n  fit: " << d.fit.lm.iterations << " iterations, "
+      << (d.fit.lm.converged() ? "converged" : "NOT converged") << "; diagnosis " << F(d.seconds, "%.2f") << " s\n";
+  const InertialParams body = model.Body(d.fit.x);
+  const ConsistencyReport cr = CheckConsistency(body);
+  out << "  body: mass " << F(body.mass(), "%.5g") << " kg, COM " << Vec3(body.com()) << " m, "
+      << (cr.fully_consistent() ? "physically consistent" : "NOT physically consistent") << "\n";
+  for (size_t k = 0; k < d.effects.size(); ++k) {
+    out << "  " << ToString(d.effects[k]) << ":";
+    const Eigen::VectorXd v = model.EffectValues(static_cast<int>(k), d.fit.x);
+    for (int i = 0; i < v.size(); ++i) out << " " << F(v[i], "%.4g");
+    out << "\n";
+  }
+  const std::vector<std::string> names(std::begin(kWrenchChannels), std::end(kWrenchChannels));
+  out << "\nHeld-out wrench error, RMS (relative): prior -> fitted model\n";
+  ErrorTable(out, names, d.prior_validation, d.fit_validation, "N m or N");
+  out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (suggested from "
+      << Percent(c.min_explained) << ")\n";
+  if (d.num_suggestions == 0) {
+    out << "  No missing effect found: no candidate removes " << Percent(c.min_explained) << " of the held-out error.\n";
+  }
+  for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
+    const BodyCandidateResult& r = d.candidates[i];
+    out << "  " << (i < d.num_suggestions ? std::to_string(i + 1) + ". " : "(not suggested) ") << ToString(r.kind)
+        << ": explains " << Percent(r.explained) << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> "
+        << F(r.validation.total_rms, "%.4g") << "\n";
+    if (i < d.num_suggestions) out << "     " << BodyCandidateExplanation(r) << "\n";
+  }
+  return out.str();
+}
+
+nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c) {
+  const BodyDiagnosis& d = *c.diagnosis;
+  const BodyEffectModel model(c.prior, d.effects);
+  nlohmann::json j;
+  j["samples"] = {{"train_pairs", d.train_pairs}, {"validation_pairs", d.validation_pairs}};
+  j["validation_source"] = c.validation_source;
+  j["rms_validation"] = Channels(d.fit_validation.rms, d.fit_validation.total_rms);
+  j["relative_rms_validation"] = Channels(d.fit_validation.relative_rms, d.fit_validation.total_relative_rms);
+  j["rms_prior"] = Channels(d.prior_validation.rms, d.prior_validation.total_rms);
+  j["rms_train"] = Channels(d.fit_train.rms, d.fit_train.total_rms);
+  nlohmann::json effects = nlohmann::json::array();
+  for (size_t k = 0; k < d.effects.size(); ++k) {
+    const Eigen::VectorXd v = model.EffectValues(static_cast<int>(k), d.fit.x);
+    effects.push_back({{"effect", std::string(ToString(d.effects[k]))},
+                       {"values", std::vector<double>(v.data(), v.data() + v.size())}});
+  }
+  j["effects"] = effects;
+  const InertialParams body = model.Body(d.fit.x);
+  const ConsistencyReport cr = CheckConsistency(body);
+  const Vector10 pi = body.vector();
+  j["body"] = {{"mass", body.mass()},
+               {"com", {body.com()[0], body.com()[1], body.com()[2]}},
+               {"pi", std::vector<double>(pi.data(), pi.data() + 10)},
+               {"theta", std::vector<double>(d.fit.x.data(), d.fit.x.data() + 10)},
+               {"physically_consistent", cr.fully_consistent()}};
+  j["physically_consistent"] = cr.fully_consistent();
+  j["iterations"] = d.fit.lm.iterations;
+  j["converged"] = d.fit.lm.converged();
+  nlohmann::json suggestions = nlohmann::json::array(), candidates = nlohmann::json::array();
+  for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
+    const BodyCandidateResult& r = d.candidates[i];
+    nlohmann::json s = {{"effect", std::string(ToString(r.kind))},
+                        {"target", "body"},
+                        {"rms_validation_after", Channels(r.validation.rms, r.validation.total_rms)},
+                        {"explained", r.explained},
+                        {"explanation", i < d.num_suggestions ? BodyCandidateExplanation(r) : NotSuggested(r.explained)},
+                        {"values", std::vector<double>(r.values.data(), r.values.data() + r.values.size())},
+                        {"converged", r.converged},
+                        {"suggested", i < d.num_suggestions}};
+    if (i < d.num_suggestions) suggestions.push_back(s);
+    candidates.push_back(s);
+  }
+  j["suggestions"] = suggestions;
+  j["candidates"] = candidates;
+  j["min_explained"] = c.min_explained;
+  j["seconds"] = d.seconds;
+  return j;
+}
+
+void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisContext& c, const std::string& text) {
+  const BodyDiagnosis& d = *c.diagnosis;
+  const BodyEffectModel model(c.prior, d.effects);
+  const BodyLog& log = *c.validation;
+  const int P = log.num_pairs();
+  DiagnosisPlotData p;
+  p.title = "inertial diagnose (single body)";
+  p.channels.assign(std::begin(kWrenchChannels), std::end(kWrenchChannels));
+  p.unit = "N m | N";
+  p.velocity_label = "matching twist component (wx..wz, vx..vz) [rad/s | m/s]";
+  p.t.resize(P);
+  p.measured.resize(P, 6);
+  p.velocity.resize(P, 6);
+  for (int i = 0; i < P; ++i) {
+    p.t[i] = 0.5 * (log.samples[i].t + log.samples[i + 1].t);
+    p.measured.row(i) = BodyEffectModel::MeasuredPair(log, i).transpose();
+    p.velocity.row(i) = (0.5 * (log.samples[i].twist + log.samples[i + 1].twist)).transpose();
+  }
+  p.predicted = model.Residuals(d.fit.x, log) + p.measured;
+  p.error_labels = {"prior", "fitted model"};
+  p.error_rms = {d.prior_validation.rms, d.fit_validation.rms};
+  for (int i = 0; i < d.num_suggestions; ++i) {
+    p.error_labels.push_back("+ " + std::string(ToString(d.candidates[i].kind)));
+    p.error_rms.push_back(d.candidates[i].validation.rms);
+  }
+  std::vector<DiagnosisTableRow> rows;
+  for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
+    const BodyCandidateResult& r = d.candidates[i];
+    rows.push_back({std::string(ToString(r.kind)), "body", r.explained, r.validation.total_rms, i < d.num_suggestions,
+                    i < d.num_suggestions ? BodyCandidateExplanation(r) : NotSuggested(r.explained)});
+  }
+  std::vector<std::string> summary{"Held-out RMS wrench error: prior " + F(d.prior_validation.total_rms, "%.4g") +
+                                   ", fitted model " + F(d.fit_validation.total_rms, "%.4g") + " (" +
+                                   c.validation_source + ")."};
+  WriteDiagnosisHtml(directory, p, summary, rows, text);
+}
+
+}  // namespace inertial

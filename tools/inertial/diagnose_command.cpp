@@ -1,0 +1,237 @@
+// `inertial diagnose`: compare the model with held-out measurements, show where it fails, and rank
+// the physical effects it lacks (joint_diagnosis.hpp, body_diagnosis.hpp).
+#include <filesystem>
+#include <iostream>
+
+#include "commands.hpp"
+#include "exit_codes.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/io/body_csv.hpp"
+#include "inertial/io/diagnosis_report.hpp"
+#include "option_parsing.hpp"
+#include "robot_inputs.hpp"
+
+namespace inertial::cli {
+
+CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
+  CLI::App* sub = app.add_subcommand(
+      "diagnose",
+      "Fit the model as `identify` does, compare it with held-out data (--validate, or the last --holdout fraction "
+      "of --data), show where it fails, and rank the candidate effects it lacks (viscous, coulomb, offset, armature, "
+      "spring per joint; with --hold-links, a payload per link; for --body data force_bias, moment_bias, "
+      "velocity_bias, gravity) by the share of the held-out error each removes. Add the top one with --effects and "
+      "run again.");
+  sub->add_option("--model", c->model, "URDF robot description (robot data)");
+  sub->add_flag("--body", c->body,
+                "single-body data: CSV columns t, wx wy wz vx vy vz, mx my mz fx fy fz, optional gx gy gz");
+  sub->add_option("--data", c->data, "the log (CSV): training data")->required();
+  sub->add_option("--validate", c->validate, "held-out log (CSV)");
+  sub->add_option("--holdout", c->holdout, "without --validate: hold out this last fraction of --data (default 0.3)");
+  sub->add_option("--effects", c->effects,
+                  "effects in the model (robots: syntax of identify --effects; --body: force_bias,moment_bias,"
+                  "velocity_bias,gravity)");
+  sub->add_flag("--hold-links", c->hold_links,
+                "hold the links at their URDF inertias (rotors, payloads and effects still fitted) and test a payload "
+                "on every link");
+  sub->add_option("--prior", c->prior, "--body: the prior body's pi, 10 numbers (default 1 kg, 1 kg m^2: the paper's)");
+  sub->add_option("--min-explained", c->min_explained,
+                  "share of the held-out mean-square error a candidate must remove to be suggested, in (0, 1)")
+      ->default_val("0.02");
+  sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0")->default_val("0.01");
+  sub->add_option("--max-iterations", c->max_iterations, "iteration cap of every fit, 1 to 100000")
+      ->default_val("1000");
+  sub->add_option("--gravity", c->gravity, "gravity in the base frame [m/s^2]")->default_val("0 0 -9.81");
+  sub->add_option("--sg-order", c->sg_order, "Savitzky-Golay order for missing qd/qdd, 2 to 10")->default_val("4");
+  sub->add_option("--sg-window", c->sg_window, "Savitzky-Golay window [s]")->default_val("0.1");
+  sub->add_option("--threads", c->threads, "threads for the candidate fits (0: one per core)")->default_val("0");
+  sub->add_flag("--skip-bad-rows", c->skip_bad_rows, "skip (and count) malformed rows of robot logs");
+  sub->add_option("--report", c->report_dir, "write DIR/index.html (self-contained, with gnuplot figures)");
+  sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
+  return sub;
+}
+
+namespace {
+
+int PrepareReportDirectory(const std::string& dir) {
+  if (dir.empty()) return kOk;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    std::cerr << "Error: --report: cannot create directory '" << dir << "'" << (ec ? ": " + ec.message() : "") << "\n";
+    return kIoError;
+  }
+  return kOk;
+}
+
+template <typename WriteFn>
+int WriteReport(const std::string& dir, const WriteFn& write) {
+  if (dir.empty()) return kOk;
+  try {
+    write();
+  } catch (const std::exception& e) {
+    std::cerr << "Error: --report: " << e.what() << "\n";
+    return kIoError;
+  }
+  std::cerr << "report written to " << dir << "/index.html\n";
+  return kOk;
+}
+
+std::string HoldoutSource(const std::string& data, double fraction) {
+  return "the last " + std::to_string(static_cast<int>(std::lround(100 * fraction))) + " % of " + data;
+}
+
+int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations) {
+  std::vector<BodyEffectKind> effects;
+  try {
+    effects = ParseBodyEffectList(c.effects);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  Vector10 prior_pi;
+  prior_pi << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0;
+  if (!c.prior.empty()) {
+    try {
+      const std::vector<double> v = ParseNumberList(c.prior, "--prior");
+      if (v.size() != 10) {
+        std::cerr << "Error: --prior: " << v.size() << " numbers given, 10 expected (pi)\n";
+        return kUsage;
+      }
+      prior_pi = Eigen::Map<const Vector10>(v.data());
+    } catch (const InvalidNumber& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kInvalidValue;
+    }
+  }
+  const InertialParams prior = InertialParams::FromVector(prior_pi);
+  const ConsistencyReport report = CheckConsistency(prior);
+  if (!report.fully_consistent()) {
+    std::cerr << "Error: --prior: not physically consistent: " << report.reason << "\n";
+    return kInconsistentBody;
+  }
+  BodyLog all, train, validation;
+  std::string source;
+  try {
+    std::vector<std::string> notices;
+    all = ReadBodyCsv(c.data, &notices);
+    if (!c.validate.empty()) {
+      validation = ReadBodyCsv(c.validate, &notices);
+      train = all;
+      source = c.validate;
+    }
+    for (const std::string& n : notices) std::cerr << "note: " << n << "\n";
+  } catch (const CsvError& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kIoError;
+  }
+  if (c.validate.empty()) {
+    try {
+      SplitHoldout(all, holdout, &train, &validation);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+      return kInvalidValue;
+    }
+    source = HoldoutSource(c.data, holdout);
+  }
+  BodyDiagnosisOptions options;
+  options.min_explained = min_explained;
+  options.fit.max_iterations = max_iterations;
+  const BodyDiagnosis d = DiagnoseBodyModel(prior, effects, train, validation, options);
+  BodyDiagnosisContext context;
+  context.diagnosis = &d;
+  context.validation = &validation;
+  context.prior = prior;
+  context.validation_source = source;
+  context.min_explained = min_explained;
+  const std::string text = BodyDiagnosisText(context);
+  if (c.json) {
+    std::cout << BodyDiagnosisJson(context).dump(2) << "\n";
+  } else {
+    std::cout << text;
+  }
+  return WriteReport(c.report_dir, [&] { WriteBodyDiagnosisReport(c.report_dir, context, text); });
+}
+
+int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations) {
+  JointDiagnosisOptions options;
+  options.min_explained = min_explained;
+  options.hold_links = c.hold_links;
+  options.fit.lm.max_iterations = max_iterations;
+  JointCsvOptions csv;
+  csv.skip_bad_rows = c.skip_bad_rows;
+  int status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options.fit.prior_weight);
+  if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv.differentiation.order);
+  if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
+  if (status == kOk) status = ParseInteger(c.threads, "--threads", 0, 256, &options.threads);
+  Vector3 gravity;
+  if (status == kOk) status = ParseGravityOption(c.gravity, &gravity);
+  if (status != kOk) return status;
+  RobotModel robot;
+  std::vector<EffectSpec> effects;
+  std::optional<RobotDynamics> model;
+  status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
+  if (status != kOk) return status;
+  JointSamples all, train, validation;
+  status = ReadRobotLog(c.data, robot, csv, &all);
+  std::string source;
+  if (status == kOk && !c.validate.empty()) {
+    status = ReadRobotLog(c.validate, robot, csv, &validation);
+    train = std::move(all);
+    source = c.validate;
+  }
+  if (status != kOk) return status;
+  if (c.validate.empty()) {
+    try {
+      SplitHoldout(all, holdout, &train, &validation);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+      return kInvalidValue;
+    }
+    source = HoldoutSource(c.data, holdout);
+  }
+  const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
+    return MakeRobotDynamics(robot, e, gravity);
+  };
+  const JointDiagnosis d = DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+  const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, validation, source, min_explained);
+  const std::string text = JointDiagnosisText(context);
+  if (c.json) {
+    std::cout << JointDiagnosisJson(context).dump(2) << "\n";
+  } else {
+    std::cout << text;
+  }
+  return WriteReport(c.report_dir, [&] { WriteJointDiagnosisReport(c.report_dir, context, text); });
+}
+
+}  // namespace
+
+int RunDiagnoseCommand(const DiagnoseCommand& c) {
+  if (c.model.empty() == !c.body) {
+    std::cerr << "Error: give --model URDF (robot data) or --body (single-body data), not " << (c.body ? "both" : "neither")
+              << "\n";
+    return kUsage;
+  }
+  if (!c.validate.empty() && !c.holdout.empty()) {
+    std::cerr << "Error: --validate and --holdout exclude each other\n";
+    return kUsage;
+  }
+  if (c.body && c.hold_links) {
+    std::cerr << "Error: --hold-links needs --model\n";
+    return kUsage;
+  }
+  if (!c.body && !c.prior.empty()) {
+    std::cerr << "Error: --prior is for --body data (robots take their priors from the URDF)\n";
+    return kUsage;
+  }
+  double holdout = 0.3, min_explained = 0.0;
+  int max_iterations = 0;
+  int status = c.holdout.empty() ? kOk : ParseRealOption(c.holdout, "--holdout", 1e-6, 1.0 - 1e-6, &holdout);
+  if (status == kOk) status = ParseRealOption(c.min_explained, "--min-explained", 1e-9, 1.0, &min_explained);
+  if (status == kOk) status = ParseInteger(c.max_iterations, "--max-iterations", 1, 100000, &max_iterations);
+  if (status == kOk) status = PrepareReportDirectory(c.report_dir);
+  if (status != kOk) return status;
+  return c.body ? RunBody(c, holdout, min_explained, max_iterations)
+                : RunRobot(c, holdout, min_explained, max_iterations);
+}
+
+}  // namespace inertial::cli

@@ -1,0 +1,64 @@
+#include "robot_inputs.hpp"
+
+#include <iostream>
+
+#include "exit_codes.hpp"
+#include "inertial/io/number_parsing.hpp"
+
+namespace inertial::cli {
+
+int ParseGravityOption(const std::string& text, Vector3* gravity) {
+  try {
+    const std::vector<double> g = ParseNumberList(text, "--gravity");
+    if (g.size() != 3) {
+      std::cerr << "Error: --gravity: " << g.size() << " numbers given, 3 expected\n";
+      return kUsage;
+    }
+    *gravity = Vector3(g[0], g[1], g[2]);
+  } catch (const InvalidNumber& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  return kOk;
+}
+
+int LoadRobot(const std::string& urdf, const std::string& effects_text, const Vector3& gravity, RobotModel* robot,
+              std::vector<EffectSpec>* effects, std::optional<RobotDynamics>* model) {
+  try {
+    *effects = ParseEffectList(effects_text);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  try {
+    *robot = LoadUrdf(urdf);
+  } catch (const UrdfError& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    if (std::string(e.what()).find("not physically consistent") != std::string::npos) {
+      std::cerr << "hint: `inertial check " << urdf << " --repair fixed.urdf` writes the nearest consistent inertias\n";
+      return kInconsistentBody;
+    }
+    return kIoError;
+  }
+  try {
+    model->emplace(MakeRobotDynamics(*robot, *effects, gravity));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  return kOk;
+}
+
+int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCsvOptions& csv, JointSamples* samples) {
+  try {
+    JointCsvReport report;
+    *samples = ReadJointCsv(path, robot.dof_names, csv, &report);
+    for (const std::string& n : report.notices) std::cerr << "note: " << n << "\n";
+  } catch (const CsvError& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kIoError;
+  }
+  return kOk;
+}
+
+}  // namespace inertial::cli
