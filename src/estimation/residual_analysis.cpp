@@ -50,6 +50,9 @@ ResidualAnalysis AnalyzeResiduals(const JointSamples& data, const Eigen::MatrixX
       S(i, kPosition) = data.q(i, k) - q_mean;
       S(i, kTorque) = data.tau(i, k);
     }
+    // A joint held still: q - mean q is rounding noise, as collinear with the constant as can be.
+    const double q_scale = 1.0 + data.q.col(k).cwiseAbs().maxCoeff();
+    if (S.col(kPosition).norm() <= 1e-12 * q_scale * std::sqrt(static_cast<double>(N))) S.col(kPosition).setZero();
     // The joint fit without tau: column-scaled, lightly damped normal equations, so a signal that
     // does not vary (a joint at rest) gets a zero coefficient instead of a singular solve.
     constexpr int kFit = kTorque;  // columns 0 .. kPosition

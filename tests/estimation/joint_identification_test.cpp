@@ -151,5 +151,68 @@ TEST(JointIdentification, RejectsSamplesThatDoNotMatchTheModel) {
   EXPECT_THROW(CompareTorques(Eigen::MatrixXd(2, 3), Eigen::MatrixXd(3, 3)), std::invalid_argument);
 }
 
+// Per-joint statistics: each joint's squared error from them equals the squared error of that
+// joint's predicted torques computed sample by sample, and they sum to the pooled statistics.
+TEST(JointIdentification, JointwiseStatisticsGiveEachJointsError) {
+  Rng rng(33);
+  const Case c = MakeCase("viscous,coulomb:scale=0.05");
+  const JointSamples data = Excite(c.truth, c.x_true, 700, 0.005, 0.1, rng, 0.4);
+  const std::vector<JointNormalEquations> per = AccumulateJointwiseNormalEquations(c.model, data);
+  const JointNormalEquations total = AccumulateNormalEquations(c.model, data);
+  ASSERT_EQ(per.size(), 3u);
+  Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(total.AtA.rows(), total.AtA.cols());
+  for (const JointNormalEquations& e : per) AtA += e.AtA;
+  EXPECT_LT((AtA - total.AtA).norm(), 1e-10 * total.AtA.norm());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(c.model.num_parameters());
+  for (int i = 0; i < x.size(); ++i) x[i] = rng.Uniform(-0.2, 0.2);
+  const Eigen::MatrixXd err = PredictJointTorques(c.model, x, data) - data.tau;
+  const Eigen::VectorXd w = c.model.Coefficients(x);
+  for (int k = 0; k < 3; ++k) {
+    const double direct = err.col(k).squaredNorm();
+    EXPECT_NEAR(SquaredError(per[k], w), direct, 1e-8 * direct) << k;
+  }
+}
+
+// Frozen bodies stay exactly at their priors while the rest is fitted: with the links frozen at
+// the truth, the effects come out exactly; with the links frozen at a wrong prior, the fit is worse
+// than with free links.
+TEST(JointIdentification, FrozenBodiesStayAtTheirPriors) {
+  Rng rng(34);
+  const Case c = MakeCase("viscous,coulomb:scale=0.05");
+  const JointSamples train = Excite(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 0.0);
+  const RobotDynamics at_truth(Leg(TrueLinks()), kJoints, ParseEffectList("viscous,coulomb:scale=0.05"), NoLinks());
+  JointIdentificationOptions options;
+  options.frozen_bodies = {true, true, true};
+  const JointIdentificationResult exact = IdentifyJointModel(at_truth, AccumulateNormalEquations(at_truth, train), options);
+  EXPECT_EQ(exact.x.head(30).cwiseAbs().maxCoeff(), 0.0);
+  for (int k = 0; k < static_cast<int>(at_truth.effects().size()); ++k) {
+    const double expected = at_truth.effects()[k].kind == EffectKind::kViscous ? 0.3 : 0.8;
+    EXPECT_NEAR(at_truth.EffectValues(k, exact.x)[0], expected, 1e-6) << k;
+  }
+  const JointNormalEquations eq = AccumulateNormalEquations(c.model, train);
+  const JointIdentificationResult held = IdentifyJointModel(c.model, eq, options);
+  EXPECT_EQ(held.x.head(30).cwiseAbs().maxCoeff(), 0.0);
+  options.frozen_bodies = {false, true, false};
+  const JointIdentificationResult one = IdentifyJointModel(c.model, eq, options);
+  EXPECT_EQ(one.x.segment<10>(10).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(one.x.head(10).cwiseAbs().maxCoeff(), 1e-3);
+  const JointIdentificationResult free = IdentifyJointModel(c.model, eq);
+  EXPECT_LT(free.data_cost, one.data_cost);
+  EXPECT_LT(one.data_cost, held.data_cost);
+  options.frozen_bodies = {true};
+  EXPECT_THROW(IdentifyJointModel(c.model, eq, options), std::invalid_argument);
+}
+
+// The prior without effects predicts the links' torques alone.
+TEST(JointIdentification, PriorWithoutEffectsIsTheLinksAlone) {
+  Rng rng(35);
+  const Case c = MakeCase("viscous,coulomb:scale=0.05,offset,spring");
+  const RobotDynamics links(Leg(PriorLinks()), kJoints, {}, NoLinks());
+  const JointSamples data = Excite(c.truth, c.x_true, 50, 0.01, 0.0, rng, 0.0);
+  const Eigen::MatrixXd with = PredictJointTorques(c.model, PriorParametersWithoutEffects(c.model), data);
+  const Eigen::MatrixXd alone = PredictJointTorques(links, Eigen::VectorXd::Zero(links.num_parameters()), data);
+  EXPECT_LT((with - alone).cwiseAbs().maxCoeff(), 1e-12 * alone.cwiseAbs().maxCoeff());
+}
+
 }  // namespace
 }  // namespace inertial
