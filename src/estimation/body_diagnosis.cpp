@@ -88,12 +88,13 @@ BodyDiagnosis DiagnoseBodyModel(const InertialParams& prior, const std::vector<B
     r.values = model.EffectValues(static_cast<int>(with.size()) - 1, fit.x);
     out.candidates.push_back(r);
   }
-  std::stable_sort(out.candidates.begin(), out.candidates.end(),
-                   [](const BodyCandidateResult& a, const BodyCandidateResult& b) { return a.explained > b.explained; });
-  while (out.num_suggestions < static_cast<int>(out.candidates.size()) &&
-         out.candidates[out.num_suggestions].explained >= options.min_explained) {
-    ++out.num_suggestions;
-  }
+  std::stable_sort(out.candidates.begin(), out.candidates.end(), [](const BodyCandidateResult& a, const BodyCandidateResult& b) {
+    return RankingKey(a.explained, ParameterCount(a.kind)) > RankingKey(b.explained, ParameterCount(b.kind));
+  });
+  const auto end = std::stable_partition(out.candidates.begin(), out.candidates.end(), [&](const BodyCandidateResult& c) {
+    return c.explained >= options.min_explained;
+  });
+  out.num_suggestions = static_cast<int>(end - out.candidates.begin());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

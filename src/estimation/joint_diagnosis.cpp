@@ -239,13 +239,17 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
     }
     out.candidates.push_back(std::move(r));
   }
+  auto key = [](const CandidateResult& c) {
+    const int p = c.spec.kind == EffectKind::kPayload ? 10 : (c.spec.kind == EffectKind::kSpring ? 2 : 1);
+    return RankingKey(c.explained, p);
+  };
   std::stable_sort(out.candidates.begin(), out.candidates.end(),
-                   [](const CandidateResult& a, const CandidateResult& b) { return a.explained > b.explained; });
-  out.num_suggestions = 0;
-  while (out.num_suggestions < static_cast<int>(out.candidates.size()) &&
-         out.candidates[out.num_suggestions].explained >= options.min_explained) {
-    ++out.num_suggestions;
-  }
+                   [&](const CandidateResult& a, const CandidateResult& b) { return key(a) > key(b); });
+  // Suggestions first: every candidate at or above the threshold, in ranking order.
+  const auto end = std::stable_partition(out.candidates.begin(), out.candidates.end(), [&](const CandidateResult& c) {
+    return c.explained >= options.min_explained;
+  });
+  out.num_suggestions = static_cast<int>(end - out.candidates.begin());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -16,4 +16,10 @@ namespace inertial {
 /// @throws std::invalid_argument if the sizes differ or are zero.
 double ExplainedShare(const Eigen::VectorXd& rms_without, const Eigen::VectorXd& rms_with);
 
+/// Near-ties go to the simpler effect: candidates are ranked by explained - kParsimony * (p - 1)
+/// for p parameters, so a spring (k, q0) that explains no more than an offset (a spring of tiny k
+/// and large q0 is one) ranks below it. Suggestions still need explained >= the threshold.
+inline constexpr double kParsimony = 0.005;
+inline double RankingKey(double explained, int parameters) { return explained - kParsimony * (parameters - 1); }
+
 }  // namespace inertial
