@@ -130,8 +130,9 @@ TEST(EffectDiagnosis, TorqueSensorOffsetOnTheKnee) {
   EXPECT_EQ(after.diagnosis.num_suggestions, 0) << Ranking(after.diagnosis);
 }
 
-// A 20 g payload on the foot (4 % of the shank; its torque is 5-20 % of some joint's, checked) (fixed to the shank), with the links' URDF trusted: the shank's rigid
-// body carries it.
+// A 20 g payload on the foot (fixed to the shank; 4 % of the shank's mass, its torque 5-20 % of
+// the most affected joint's, checked), with the links' URDF trusted: the shank's rigid body
+// carries it.
 TEST(EffectDiagnosis, UnmodelledPayloadWithLinksHeldAtTheUrdf) {
   Case c{"leg3.urdf", "payload@foot:mass=0.02", {0.0}};
   c.hold_links = true;
