@@ -11,6 +11,7 @@ packages=(
   libcli11-dev              # CLI11: argument parsing of the tools
   nlohmann-json3-dev        # nlohmann-json: --json output
   gnuplot-nox               # gnuplot: figures of --report
+  chromium                  # headless Chromium: the test that the diagnose report renders
   liburdfdom-dev            # urdfdom: reading URDF robot models
   libtinyxml2-dev           # tinyxml2: writing URDF back with identified inertias
   liborocos-kdl-dev         # Orocos KDL: independent inverse dynamics, tests only

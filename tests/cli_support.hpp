@@ -39,20 +39,15 @@ inline fs::path UniqueTempPath(const std::string& stem) {
          ("inertial_cli_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++) + "_" + stem);
 }
 
-// Runs INERTIAL_CLI with `args` (no shell), feeding `input` on stdin; stdout and stderr go to
-// temporary files (no pipe deadlocks), read back after the process ends.
-inline CliRun RunCli(const std::vector<std::string>& args, const std::string& input = "") {
+// Runs the program at path argv0 (no shell, no PATH search) with `args`, feeding `input` on stdin;
+// stdout and stderr go to temporary files (no pipe deadlocks), read back after the process ends.
+inline CliRun RunProgram(const std::string& argv0, const std::vector<std::string>& args, const std::string& input = "") {
   CliRun run;
-  const char* cli = std::getenv("INERTIAL_CLI");
-  if (cli == nullptr) {
-    ADD_FAILURE() << "INERTIAL_CLI is not set";
-    return run;
-  }
   const fs::path in_path = UniqueTempPath("stdin"), out_path = UniqueTempPath("stdout"),
                  err_path = UniqueTempPath("stderr");
   { std::ofstream(in_path, std::ios::binary) << input; }
   std::vector<std::string> storage;
-  storage.push_back(cli);
+  storage.push_back(argv0);
   storage.insert(storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& s : storage) argv.push_back(s.data());
@@ -88,6 +83,16 @@ inline CliRun RunCli(const std::vector<std::string>& args, const std::string& in
   fs::remove(out_path, ec);
   fs::remove(err_path, ec);
   return run;
+}
+
+// Runs INERTIAL_CLI with `args`, as RunProgram.
+inline CliRun RunCli(const std::vector<std::string>& args, const std::string& input = "") {
+  const char* cli = std::getenv("INERTIAL_CLI");
+  if (cli == nullptr) {
+    ADD_FAILURE() << "INERTIAL_CLI is not set";
+    return CliRun{};
+  }
+  return RunProgram(cli, args, input);
 }
 
 inline std::string Describe(const CliRun& r) {

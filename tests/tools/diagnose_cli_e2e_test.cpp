@@ -1,0 +1,223 @@
+// End-to-end tests of `inertial diagnose`: the loop a user runs (simulate a leg whose knee has
+// Coulomb friction; diagnose names it; add it; the error falls and nothing more is suggested), the
+// JSON contract, the HTML report rendered by headless Chromium, single-body data, and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "inertial/io/body_csv.hpp"
+#include "inertial/model/rigid_body_simulation.hpp"
+#include "simulated_robot.hpp"
+
+namespace inertial {
+namespace {
+
+using testing::Contains;
+using testing::Describe;
+using testing::RunCli;
+namespace fs = std::filesystem;
+
+// Train (30 s) and test (20 s) logs of the leg with perturbed links and Coulomb friction of
+// 0.1 N m on the knee, torque noise 0.05 N m; made once.
+struct LegLogs {
+  fs::path train, test;
+};
+const LegLogs& Logs() {
+  static const LegLogs logs = [] {
+    LegLogs l{testing::UniqueTempPath("train.csv"), testing::UniqueTempPath("test.csv")};
+    for (const auto& [path, seed, seconds] : {std::tuple<fs::path, const char*, const char*>{l.train, "1", "30"},
+                                              {l.test, "2", "20"}}) {
+      const testing::CliRun r = RunCli({"simulate", "--model", testing::Example("leg3.urdf"), "--out", path.string(),
+                                        "--effects", "coulomb@knee", "--effect-values", "0.1", "--perturb", "0.2",
+                                        "--noise-tau", "0.05", "--duration", seconds, "--seed", seed});
+      EXPECT_EQ(r.exit_code, 0) << Describe(r);
+    }
+    return l;
+  }();
+  return logs;
+}
+
+nlohmann::json Diagnose(std::vector<std::string> extra) {
+  std::vector<std::string> args{"diagnose", "--model", testing::Example("leg3.urdf"), "--data", Logs().train.string(),
+                                "--json"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const testing::CliRun r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 0) << Describe(r);
+  return nlohmann::json::parse(r.out);
+}
+
+TEST(DiagnoseCli, NamesTheMissingEffectAndWatchesTheErrorFall) {
+  const nlohmann::json before = Diagnose({"--validate", Logs().test.string()});
+  for (const char* key : {"rms_validation", "rms_prior", "effects", "suggestions", "physically_consistent", "bodies",
+                          "where_it_fails", "candidates"}) {
+    EXPECT_TRUE(before.contains(key)) << key;
+  }
+  for (const char* joint : {"abad", "hip", "knee", "total"}) {
+    EXPECT_TRUE(before["rms_validation"].contains(joint)) << joint;
+    EXPECT_GT(before["rms_prior"][joint].get<double>(), before["rms_validation"][joint].get<double>()) << joint;
+  }
+  EXPECT_TRUE(before["effects"].empty());
+  EXPECT_TRUE(before["physically_consistent"].get<bool>());
+  ASSERT_EQ(before["bodies"].size(), 3u);
+  for (const nlohmann::json& b : before["bodies"]) EXPECT_TRUE(b["physically_consistent"].get<bool>()) << b["name"];
+  ASSERT_GE(before["suggestions"].size(), 1u) << before.dump(2);
+  const nlohmann::json& top = before["suggestions"][0];
+  EXPECT_EQ(top["effect"], "coulomb");
+  EXPECT_EQ(top["joint"], "knee");
+  EXPECT_TRUE(Contains(top["explanation"].get<std::string>(), "knee")) << top["explanation"];
+  const double knee_before = before["rms_validation"]["knee"], knee_after = top["rms_validation_after"]["knee"];
+  EXPECT_LT(knee_after, 0.055);  // the noise floor, 0.05
+  EXPECT_GT(knee_before, 1.5 * knee_after);
+  EXPECT_NEAR(top["values"][0].get<double>(), 0.1, 0.01);
+  EXPECT_GT(before["where_it_fails"]["joints"]["knee"]["correlations"]["velocity_sign"].get<double>() * -1, 0.5);
+
+  // Add it and run again: the error falls to what the suggestion predicted; nothing is left.
+  const nlohmann::json after = Diagnose({"--validate", Logs().test.string(), "--effects", "coulomb@knee"});
+  ASSERT_EQ(after["effects"].size(), 1u);
+  EXPECT_EQ(after["effects"][0]["effect"], "coulomb");
+  EXPECT_EQ(after["effects"][0]["joint"], "knee");
+  EXPECT_NEAR(after["rms_validation"]["knee"].get<double>(), knee_after, 1e-3);
+  EXPECT_NEAR(after["rms_links_only"]["knee"].get<double>(), knee_before, 1e-3);
+  EXPECT_TRUE(after["suggestions"].empty()) << after["suggestions"].dump(2);
+  EXPECT_TRUE(after["physically_consistent"].get<bool>());
+
+  // The text form says the same in words.
+  const testing::CliRun text = RunCli({"diagnose", "--model", testing::Example("leg3.urdf"), "--data",
+                                       Logs().train.string(), "--validate", Logs().test.string(), "--effects",
+                                       "coulomb@knee"});
+  ASSERT_EQ(text.exit_code, 0) << Describe(text);
+  EXPECT_TRUE(Contains(text.out, "No missing effect found")) << text.out;
+  EXPECT_TRUE(Contains(text.out, "links only -> links + coulomb@knee")) << text.out;
+}
+
+TEST(DiagnoseCli, HoldsOutTheEndOfTheLog) {
+  const nlohmann::json j = Diagnose({"--holdout", "0.25"});
+  EXPECT_EQ(j["samples"]["validation"].get<int>(), 3750);  // 25 % of 15001 samples
+  EXPECT_EQ(j["samples"]["train"].get<int>(), 15001 - 3750);
+  ASSERT_GE(j["suggestions"].size(), 1u);
+  EXPECT_EQ(j["suggestions"][0]["name"], "coulomb@knee");
+}
+
+// The report: a self-contained page whose four figures exist, are PNGs, and decode in a browser.
+TEST(DiagnoseCli, ReportRendersInHeadlessChromium) {
+  const fs::path dir = testing::UniqueTempPath("report");
+  const testing::CliRun r = RunCli({"diagnose", "--model", testing::Example("leg3.urdf"), "--data",
+                                    Logs().train.string(), "--validate", Logs().test.string(), "--report", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  for (const char* png : {"torques.png", "residual_time.png", "residual_velocity.png", "errors.png"}) {
+    ASSERT_TRUE(fs::exists(dir / png)) << png;
+    EXPECT_GT(fs::file_size(dir / png), 5000u) << png;
+    EXPECT_EQ(testing::ReadFile(dir / png).substr(1, 3), "PNG") << png;
+  }
+  const std::string html = testing::ReadFile(dir / "index.html");
+  size_t images = 0;
+  for (size_t p = html.find("data:image/png;base64,"); p != std::string::npos; p = html.find("data:image/png;base64,", p + 1)) {
+    ++images;
+  }
+  EXPECT_EQ(images, 4u);
+  EXPECT_TRUE(Contains(html, "coulomb")) << "the ranked table";
+  EXPECT_FALSE(Contains(html, "src=\"http")) << "self-contained";
+
+  const std::string chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) GTEST_SKIP() << "Debian's chromium is not installed (" << chromium << "): not rendered";
+  // A page beside the report loads it in a frame and counts the images the browser decoded.
+  const fs::path probe = dir / "probe.html";
+  std::ofstream(probe) << "<!DOCTYPE html><html><body><iframe id=\"f\" src=\"index.html\" style=\"width:1300px;"
+                          "height:3000px\"></iframe><script>document.getElementById('f').onload=function(){"
+                          "var d=this.contentDocument,im=d.images,ok=0;for(var i=0;i<im.length;++i)"
+                          "if(im[i].complete&&im[i].naturalWidth>0)ok++;var o=document.createElement('pre');"
+                          "o.id='result';o.textContent='images='+im.length+' decoded='+ok+' rows='+"
+                          "d.querySelectorAll('#ranking tr').length+' width='+(im.length?im[0].naturalWidth:0);"
+                          "document.body.appendChild(o);};</script></body></html>";
+  const testing::CliRun c = testing::RunProgram(
+      chromium, {"--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-background-networking",
+                 "--no-first-run", "--allow-file-access-from-files", "--virtual-time-budget=15000",
+                 "--user-data-dir=" + (dir / "chromium-profile").string(), "--dump-dom", "file://" + probe.string()});
+  ASSERT_EQ(c.exit_code, 0) << Describe(c);
+  EXPECT_TRUE(Contains(c.out, "images=4 decoded=4 rows=16 width=1200")) << c.out.substr(0, 2000);
+  const testing::CliRun shot = testing::RunProgram(
+      chromium, {"--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-background-networking",
+                 "--no-first-run", "--window-size=1300,3000", "--user-data-dir=" + (dir / "chromium-profile").string(),
+                 "--screenshot=" + (dir / "page.png").string(), "file://" + (dir / "index.html").string()});
+  ASSERT_EQ(shot.exit_code, 0) << Describe(shot);
+  EXPECT_GT(fs::file_size(dir / "page.png"), 50000u);
+  fs::remove_all(dir);
+}
+
+// Single-body data with the paper's velocity bias: --body names it.
+TEST(DiagnoseCli, SingleBodyVelocityBias) {
+  const InertialParams body = InertialParams::FromMassComInertia(
+      0.7, Vector3(0.1, -0.2, 0.05), (Matrix3() << 0.3, 0.02, -0.01, 0.02, 0.25, 0.03, -0.01, 0.03, 0.4).finished());
+  std::vector<double> times;
+  for (int i = 0; i <= 4000; ++i) times.push_back(i / 100.0);
+  auto wrench = [](double t) {
+    Vector6 w;
+    for (int k = 0; k < 6; ++k) w[k] = std::sin(t + k * M_PI / 3);
+    return w;
+  };
+  const SimulationResult sim = SimulateRigidBody(body, Vector6::Zero(), wrench, times);
+  ASSERT_TRUE(sim.ok);
+  testing::Rng rng(5);
+  BodyLog log;
+  for (size_t i = 0; i < times.size(); ++i) {
+    TwistWrenchSample s;
+    s.t = times[i];
+    s.twist = sim.twists[i];
+    s.wrench = wrench(times[i]);
+    for (int k = 0; k < 6; ++k) {
+      s.twist[k] += 0.1 + rng.Uniform(-0.0025, 0.0025);
+      s.wrench[k] += rng.Normal(0.01);
+    }
+    log.samples.push_back(s);
+  }
+  const fs::path csv = testing::UniqueTempPath("body.csv");
+  WriteBodyCsv(csv.string(), log);
+  const testing::CliRun r = RunCli({"diagnose", "--body", "--data", csv.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_GE(j["suggestions"].size(), 1u) << j.dump(2);
+  EXPECT_EQ(j["suggestions"][0]["effect"], "velocity_bias");
+  EXPECT_EQ(j["suggestions"][0]["target"], "body");
+  EXPECT_TRUE(j["physically_consistent"].get<bool>());
+  for (const char* c : {"mx", "my", "mz", "fx", "fy", "fz", "total"}) EXPECT_TRUE(j["rms_validation"].contains(c)) << c;
+  const testing::CliRun again = RunCli({"diagnose", "--body", "--data", csv.string(), "--effects", "velocity_bias"});
+  ASSERT_EQ(again.exit_code, 0) << Describe(again);
+  EXPECT_TRUE(Contains(again.out, "No missing effect found")) << again.out;
+  fs::remove(csv);
+}
+
+TEST(DiagnoseCli, RefusesBadInput) {
+  const std::string leg = testing::Example("leg3.urdf"), train = Logs().train.string();
+  struct Bad {
+    std::vector<std::string> args;
+    int exit_code;
+    std::string message;
+  };
+  const fs::path broken = testing::UniqueTempPath("broken.csv");
+  std::ofstream(broken) << "t,wx,wy,wz\n0,1,2,3\n";
+  for (const Bad& b : std::vector<Bad>{
+           {{"--model", leg, "--body", "--data", train}, 2, "not both"},
+           {{"--data", train}, 2, "not neither"},
+           {{"--model", leg, "--data", train, "--validate", train, "--holdout", "0.3"}, 2, "exclude each other"},
+           {{"--model", leg, "--data", train, "--holdout", "1.5"}, 2, "--holdout"},
+           {{"--model", leg, "--data", train, "--min-explained", "abc"}, 3, "--min-explained"},
+           {{"--model", leg, "--data", "/nonexistent.csv"}, 5, "/nonexistent.csv"},
+           {{"--model", leg, "--data", train, "--effects", "coulomb@ankle"}, 2, "ankle"},
+           {{"--body", "--data", broken.string()}, 5, "missing columns vx"},
+           {{"--body", "--data", train, "--hold-links"}, 2, "--hold-links"},
+           {{"--body", "--data", train, "--effects", "coulomb"}, 2, "coulomb"},
+           {{"--body", "--data", train, "--prior", "1 2 3"}, 2, "10 expected"},
+       }) {
+    std::vector<std::string> args{"diagnose"};
+    args.insert(args.end(), b.args.begin(), b.args.end());
+    const testing::CliRun r = RunCli(args);
+    EXPECT_EQ(r.exit_code, b.exit_code) << Describe(r);
+    EXPECT_TRUE(Contains(r.err, b.message)) << Describe(r);
+  }
+  fs::remove(broken);
+}
+
+}  // namespace
+}  // namespace inertial
