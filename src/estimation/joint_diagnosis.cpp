@@ -254,6 +254,30 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   return out;
 }
 
+JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                                     const std::vector<std::string>& payload_links, const JointSamples& train,
+                                     const JointSamples& validation, const JointDiagnosisOptions& options,
+                                     int max_steps, std::vector<DiagnosisStep>* steps) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<EffectSpec> current = effects;
+  JointDiagnosis d = DiagnoseJointModel(make, current, payload_links, train, validation, options);
+  steps->clear();
+  for (int step = 0; step < max_steps && d.num_suggestions > 0; ++step) {
+    const CandidateResult& top = d.candidates[0];
+    DiagnosisStep s;
+    s.added = top.name;
+    s.explained = top.explained;
+    s.before = d.fit_validation;
+    current.push_back(top.spec);
+    d = DiagnoseJointModel(make, current, payload_links, train, validation, options);
+    s.after = d.fit_validation;
+    steps->push_back(s);
+  }
+  // links_only_validation is relative to the links, whatever was added.
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return d;
+}
+
 void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation) {
   if (!(fraction > 0.0 && fraction < 1.0)) throw std::invalid_argument("holdout: the fraction must be in (0, 1)");
   const int N = data.size();

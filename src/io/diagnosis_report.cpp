@@ -151,7 +151,8 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
     }
     out << ". The model explains these data as well as any effect of the catalog would.\n";
   }
-  for (int i = 0; i < d.num_suggestions; ++i) {
+  constexpr int kShownSuggestions = 8;
+  for (int i = 0; i < std::min(d.num_suggestions, kShownSuggestions); ++i) {
     const CandidateResult& r = d.candidates[i];
     out << "  " << i + 1 << ". " << r.name << ": explains " << Percent(r.explained) << "; held-out RMS "
         << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g") << " N m";
@@ -161,6 +162,9 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
           << ")";
     }
     out << "\n     " << CandidateExplanation(c, r) << "\n";
+  }
+  if (d.num_suggestions > kShownSuggestions) {
+    out << "  ... and " << d.num_suggestions - kShownSuggestions << " more suggestions (see --json or --report)\n";
   }
   const int shown = std::min<int>(static_cast<int>(d.candidates.size()), d.num_suggestions + 3);
   if (shown > d.num_suggestions) {
@@ -254,6 +258,33 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
                                     {"explained", s.explained}};
   }
   j["where_it_fails"] = {{"worst_windows", windows}, {"joints", joints}};
+  return j;
+}
+
+std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const JointDiagnosis& final_diagnosis) {
+  std::ostringstream out;
+  out << "Effects added in turn (the top suggestion each time), held-out RMS before -> after:\n";
+  if (path.empty()) out << "  none: nothing was suggested\n";
+  for (size_t i = 0; i < path.size(); ++i) {
+    const DiagnosisStep& s = path[i];
+    out << "  " << i + 1 << ". " << s.added << " (explained " << Percent(s.explained) << "): "
+        << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms) << ") -> "
+        << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n";
+  }
+  out << "  " << (final_diagnosis.num_suggestions == 0 ? "stopped: nothing more is suggested"
+                                                       : "stopped at the --iterate limit; suggestions remain")
+      << "\n";
+  return out.str();
+}
+
+nlohmann::json DiagnosisPathJson(const RobotDynamics& model, const std::vector<DiagnosisStep>& path) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const DiagnosisStep& s : path) {
+    j.push_back({{"added", s.added},
+                 {"explained", s.explained},
+                 {"rms_validation_before", PerJointJson(model, s.before.rms, s.before.total_rms)},
+                 {"rms_validation_after", PerJointJson(model, s.after.rms, s.after.total_rms)}});
+  }
   return j;
 }
 

@@ -78,6 +78,7 @@ struct DiagnoseCommand {
   std::string sg_order = "4";
   std::string sg_window = "0.1";
   std::string threads = "0";
+  std::string iterate = "0";
   bool skip_bad_rows = false;
 };
 CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);

@@ -43,6 +43,9 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
   sub->add_option("--gravity", c->gravity, "gravity in the base frame [m/s^2]")->default_val("0 0 -9.81");
   sub->add_option("--sg-order", c->sg_order, "Savitzky-Golay order for missing qd/qdd, 2 to 10")->default_val("4");
   sub->add_option("--sg-window", c->sg_window, "Savitzky-Golay window [s]")->default_val("0.1");
+  sub->add_option("--iterate", c->iterate,
+                  "robots: add the top suggestion and diagnose again, up to N times or until nothing is suggested")
+      ->default_val("0");
   sub->add_option("--threads", c->threads, "threads for the candidate fits (0: one per core)")->default_val("0");
   sub->add_flag("--skip-bad-rows", c->skip_bad_rows, "skip (and count) malformed rows of robot logs");
   sub->add_option("--report", c->report_dir, "write DIR/index.html (self-contained, with gnuplot figures)");
@@ -163,6 +166,8 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv.differentiation.order);
   if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
   if (status == kOk) status = ParseInteger(c.threads, "--threads", 0, 256, &options.threads);
+  int iterate = 0;
+  if (status == kOk) status = ParseInteger(c.iterate, "--iterate", 0, 1000, &iterate);
   Vector3 gravity;
   if (status == kOk) status = ParseGravityOption(c.gravity, &gravity);
   if (status != kOk) return status;
@@ -192,11 +197,17 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
     return MakeRobotDynamics(robot, e, gravity);
   };
-  const JointDiagnosis d = DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+  std::vector<DiagnosisStep> path;
+  const JointDiagnosis d =
+      iterate > 0 ? IterateJointDiagnosis(make, effects, robot.body_links, train, validation, options, iterate, &path)
+                  : DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+  if (!path.empty()) model.emplace(make(d.effects));  // the final model, with every added effect
   const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, validation, source, min_explained);
-  const std::string text = JointDiagnosisText(context);
+  const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context);
   if (c.json) {
-    std::cout << JointDiagnosisJson(context).dump(2) << "\n";
+    nlohmann::json j = JointDiagnosisJson(context);
+    if (iterate > 0) j["path"] = DiagnosisPathJson(*model, path);
+    std::cout << j.dump(2) << "\n";
   } else {
     std::cout << text;
   }
@@ -215,8 +226,8 @@ int RunDiagnoseCommand(const DiagnoseCommand& c) {
     std::cerr << "Error: --validate and --holdout exclude each other\n";
     return kUsage;
   }
-  if (c.body && c.hold_links) {
-    std::cerr << "Error: --hold-links needs --model\n";
+  if (c.body && (c.hold_links || c.iterate != "0")) {
+    std::cerr << "Error: " << (c.hold_links ? "--hold-links" : "--iterate") << " needs --model\n";
     return kUsage;
   }
   if (!c.body && !c.prior.empty()) {

@@ -87,6 +87,21 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
                                   const std::vector<std::string>& payload_links, const JointSamples& train,
                                   const JointSamples& validation, const JointDiagnosisOptions& options = {});
 
+/// One step of IterateJointDiagnosis: the effect added and the held-out errors before and after.
+struct DiagnosisStep {
+  std::string added;                ///< e.g. "coulomb@knee"
+  double explained = 0.0;           ///< its score when it was added
+  TorqueErrors before, after;       ///< held-out, of the model without and with it
+};
+
+/// Adds the top suggestion and diagnoses again, up to max_steps times or until nothing is
+/// suggested (the loop a user runs by hand with --effects). *steps gets the path; the returned
+/// diagnosis is that of the final model, whose effects are `effects` plus every added one.
+JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                                     const std::vector<std::string>& payload_links, const JointSamples& train,
+                                     const JointSamples& validation, const JointDiagnosisOptions& options,
+                                     int max_steps, std::vector<DiagnosisStep>* steps);
+
 /// The last `fraction` of a log (by sample count) as held-out data, the rest for training.
 /// @throws std::invalid_argument unless 0 < fraction < 1 and both parts keep at least 2 samples.
 void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation);

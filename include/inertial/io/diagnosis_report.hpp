@@ -49,6 +49,11 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c);
 /// @throws std::runtime_error from gnuplot or file writes.
 void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosisContext& c, const std::string& text);
 
+/// The path of IterateJointDiagnosis: one line per added effect, held-out RMS before -> after;
+/// and as JSON [{added, explained, rms_validation_before, rms_validation_after}].
+std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const JointDiagnosis& final_diagnosis);
+nlohmann::json DiagnosisPathJson(const RobotDynamics& model, const std::vector<DiagnosisStep>& path);
+
 struct BodyDiagnosisContext {
   const BodyDiagnosis* diagnosis = nullptr;
   const BodyLog* validation = nullptr;
