@@ -1,0 +1,112 @@
+/// @file estimation_daemon.hpp
+/// inertiald as a library: joint-state messages from an LCM channel, the recursive estimator of
+/// online_joint_estimator.hpp on every sample, estimates (inertial.estimate_t) published at a fixed
+/// rate, checkpoints of the estimator state, counters of everything.
+///
+/// Threads: an LCM receiver decodes each message (joint_message.hpp: nothing trusted) and pushes the
+/// sample into a bounded queue (a full queue drops the sample and counts it; memory never grows);
+/// the estimator thread (Run's caller) pops, updates, publishes and checkpoints. Run returns when
+/// `stop` becomes true (e.g. from SIGINT/SIGTERM), after draining the queue, a last publication
+/// and a last checkpoint. A checkpoint found at start is restored (same model and estimator, or it
+/// is ignored with a warning), so a restart loses only what came after the last one.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/io/joint_message.hpp"
+
+namespace lcm {
+class LCM;
+}
+
+namespace inertial {
+
+enum class LogLevel { kError = 0, kWarn = 1, kInfo = 2, kDebug = 3 };
+/// "error", "warn", "info", "debug". @throws std::invalid_argument for others.
+LogLevel ParseLogLevel(const std::string& name);
+
+struct DaemonOptions {
+  std::string lcm_url;                              ///< empty: LCM's default (udpm://239.255.76.67:7667)
+  std::string input_channel = "INERTIAL_JOINT_STATE";
+  std::string estimate_channel = "INERTIAL_ESTIMATE";
+  std::string residual_channel;                     ///< empty: no per-sample residual messages
+  JointMessageFormat format;
+  double publish_rate_hz = 10.0;
+  double residual_window_s = 1.0;
+  std::string checkpoint_path;                      ///< empty: no checkpoints
+  double checkpoint_interval_s = 5.0;
+  std::size_t queue_capacity = 4096;
+  OnlineEstimatorOptions estimator;
+  LogLevel log_level = LogLevel::kInfo;
+};
+
+/// From the --config JSON: {"lcm_url", "channel", "estimate_channel", "residual_channel",
+/// "publish_rate_hz", "residual_window_s", "checkpoint", "checkpoint_interval_s", "queue_capacity",
+/// "estimator", "measurement_sigma", "log_level", "format": {...joint_message.hpp...}}; absent keys
+/// keep *options' values. @throws std::invalid_argument naming the key.
+void ApplyDaemonConfig(const nlohmann::json& config, DaemonOptions* options);
+
+struct DaemonCounters {
+  std::uint64_t received = 0;  ///< messages on the input channel
+  std::uint64_t accepted = 0;  ///< samples that updated the estimate
+  std::uint64_t dropped = 0;   ///< samples lost to a full queue
+  std::uint64_t published = 0;
+  std::uint64_t checkpoints = 0;
+  std::map<std::string, std::uint64_t> rejected;  ///< by reason (decode, wrong_size, unknown_joint, ...)
+  std::uint64_t total_rejected() const;
+};
+
+class EstimationDaemon {
+ public:
+  /// @throws std::invalid_argument on bad options, std::runtime_error if LCM cannot start.
+  EstimationDaemon(RobotDynamics model, DaemonOptions options);
+  ~EstimationDaemon();
+
+  /// Runs until `stop` is true; returns 0, or 1 if LCM failed while running.
+  int Run(const std::atomic<bool>& stop);
+
+  DaemonCounters counters() const;
+  /// A one-paragraph summary of the counters (printed on exit).
+  std::string CountersText() const;
+  const OnlineJointEstimator& estimator() const { return *estimator_; }
+  /// The daemon's LCM instance (LCM publishes from any thread): with memq:// the only way in.
+  lcm::LCM& lcm();
+  bool restored_from_checkpoint() const { return restored_; }
+  /// Where log lines go (default stderr).
+  void set_log_sink(std::function<void(const std::string&)> sink) { log_sink_ = std::move(sink); }
+
+ private:
+  struct Impl;
+  void Log(LogLevel level, const std::string& text) const;
+  void Process(const JointSample& sample);
+  void Publish(std::int64_t utime);
+  void Checkpoint();
+  std::string Description() const;
+
+  DaemonOptions options_;
+  std::unique_ptr<OnlineJointEstimator> estimator_;
+  std::unique_ptr<Impl> impl_;
+  mutable std::mutex counters_mutex_;
+  DaemonCounters counters_;
+  bool restored_ = false;
+  std::function<void(const std::string&)> log_sink_;
+  // Residual window.
+  Eigen::VectorXd window_sum_, window_rms_;
+  double window_start_ = -1.0, last_t_ = 0.0;
+  int window_count_ = 0;
+  bool window_completed_ = false;
+};
+
+/// The estimate message of an online estimator (bodies, effects, residual RMS, counters).
+std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& estimator, std::int64_t utime,
+                                         const Eigen::VectorXd& residual_rms, double residual_window,
+                                         const DaemonCounters& counters);
+
+}  // namespace inertial

@@ -1,0 +1,386 @@
+#include "inertial/io/estimation_daemon.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <iostream>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
+#include <thread>
+
+#include "inertial/estimate_t.hpp"
+#include "inertial/estimation/parameter_layout.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/io/bounded_queue.hpp"
+#include "inertial/io/estimator_state_file.hpp"
+#include "inertial/residual_t.hpp"
+
+namespace inertial {
+namespace {
+
+double NowSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// The estimator statuses reported as rejection reasons.
+const char* RejectionName(UpdateStatus s) {
+  switch (s) {
+    case UpdateStatus::kNonFinite: return "non_finite";
+    case UpdateStatus::kOutOfOrder: return "out_of_order";
+    case UpdateStatus::kWrongSize: return "wrong_size";
+    case UpdateStatus::kOutlier: return "outlier";
+    case UpdateStatus::kNumerical: return "numerical";
+    default: return nullptr;
+  }
+}
+
+}  // namespace
+
+LogLevel ParseLogLevel(const std::string& name) {
+  if (name == "error") return LogLevel::kError;
+  if (name == "warn") return LogLevel::kWarn;
+  if (name == "info") return LogLevel::kInfo;
+  if (name == "debug") return LogLevel::kDebug;
+  throw std::invalid_argument("log level '" + name + "' is not one of error, warn, info, debug");
+}
+
+void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
+  if (!c.is_object()) throw std::invalid_argument("config: expected a JSON object");
+  static const std::set<std::string> kKeys{"lcm_url",          "channel",          "estimate_channel", "residual_channel",
+                                           "publish_rate_hz",  "residual_window_s", "checkpoint",
+                                           "checkpoint_interval_s", "queue_capacity", "estimator",
+                                           "measurement_sigma", "log_level",        "format"};
+  for (const auto& [key, value] : c.items()) {
+    if (kKeys.count(key) == 0) throw std::invalid_argument("config: unknown key \"" + key + "\"");
+  }
+  auto text = [&](const char* key, std::string* out) {
+    if (!c.contains(key)) return;
+    if (!c[key].is_string()) throw std::invalid_argument(std::string("config: \"") + key + "\" must be a string");
+    *out = c[key].get<std::string>();
+  };
+  auto positive = [&](const char* key, double* out) {
+    if (!c.contains(key)) return;
+    if (!c[key].is_number() || !(c[key].get<double>() > 0) || !std::isfinite(c[key].get<double>())) {
+      throw std::invalid_argument(std::string("config: \"") + key + "\" must be a positive number");
+    }
+    *out = c[key].get<double>();
+  };
+  text("lcm_url", &o->lcm_url);
+  text("channel", &o->input_channel);
+  text("estimate_channel", &o->estimate_channel);
+  text("residual_channel", &o->residual_channel);
+  text("checkpoint", &o->checkpoint_path);
+  positive("publish_rate_hz", &o->publish_rate_hz);
+  positive("residual_window_s", &o->residual_window_s);
+  positive("checkpoint_interval_s", &o->checkpoint_interval_s);
+  positive("measurement_sigma", &o->estimator.measurement_sigma);
+  if (c.contains("queue_capacity")) {
+    if (!c["queue_capacity"].is_number_integer() || c["queue_capacity"].get<long long>() < 1 ||
+        c["queue_capacity"].get<long long>() > 1000000) {
+      throw std::invalid_argument("config: \"queue_capacity\" must be an integer in [1, 1000000]");
+    }
+    o->queue_capacity = c["queue_capacity"].get<std::size_t>();
+  }
+  std::string kind, level;
+  text("estimator", &kind);
+  if (!kind.empty()) o->estimator.kind = ParseEstimatorKind(kind);
+  text("log_level", &level);
+  if (!level.empty()) o->log_level = ParseLogLevel(level);
+  if (c.contains("format")) o->format = ParseJointMessageFormat(c["format"]);
+}
+
+std::uint64_t DaemonCounters::total_rejected() const {
+  std::uint64_t n = 0;
+  for (const auto& [reason, count] : rejected) n += count;
+  return n;
+}
+
+struct EstimationDaemon::Impl {
+  Impl(const DaemonOptions& o, JointMessageDecoder d, const JointSample& prototype)
+      : lcm(o.lcm_url), decoder(std::move(d)), queue(o.queue_capacity, prototype), scratch(prototype) {}
+  lcm::LCM lcm;  // received on by the receiver thread, published on by the estimator thread
+  JointMessageDecoder decoder;
+  BoundedQueue<JointSample> queue;
+  JointSample scratch;  // decoded by the receiver thread only
+  EstimationDaemon* owner = nullptr;
+  std::uint64_t rejections_logged = 0;
+
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+    std::string why;
+    const MessageRejection r =
+        decoder.Decode(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch, &why);
+    bool dropped = false;
+    if (r == MessageRejection::kNone) dropped = !queue.TryPush(scratch);
+    {
+      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
+      ++owner->counters_.received;
+      if (r != MessageRejection::kNone) ++owner->counters_.rejected[ToString(r)];
+      if (dropped) ++owner->counters_.dropped;
+    }
+    if (r != MessageRejection::kNone && r != MessageRejection::kPriming) {
+      // Every rejection at debug level; the first 10 at warn, so a flood does not flood the log.
+      const bool loud = ++rejections_logged <= 10;
+      owner->Log(loud ? LogLevel::kWarn : LogLevel::kDebug,
+                 "rejected a message on " + owner->options_.input_channel + " (" + ToString(r) + "): " + why +
+                     (rejections_logged == 10 ? " (further rejections at debug level)" : ""));
+    }
+  }
+};
+
+EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) : options_(std::move(options)) {
+  if (!(options_.publish_rate_hz > 0) || !(options_.residual_window_s > 0) || !(options_.checkpoint_interval_s > 0) ||
+      options_.queue_capacity == 0) {
+    throw std::invalid_argument("inertiald: rates, window, interval and queue capacity must be positive");
+  }
+  const int n = model.num_dofs(), P = model.num_parameters();
+  JointMessageDecoder decoder(options_.format, model.dof_names());
+  estimator_ = std::make_unique<OnlineJointEstimator>(std::move(model), Eigen::VectorXd::Zero(P), options_.estimator);
+  JointSample prototype;
+  prototype.q = prototype.qd = prototype.qdd = prototype.tau = Eigen::VectorXd::Zero(n);
+  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype);
+  impl_->owner = this;
+  if (!impl_->lcm.good()) {
+    throw std::runtime_error("LCM could not start on '" + (options_.lcm_url.empty() ? "the default URL" : options_.lcm_url) +
+                             "'");
+  }
+  window_sum_ = window_rms_ = Eigen::VectorXd::Zero(n);
+  if (!options_.checkpoint_path.empty() && std::filesystem::exists(options_.checkpoint_path)) {
+    try {
+      std::string description;
+      const EstimatorState state = LoadEstimatorState(options_.checkpoint_path, &description);
+      std::string why;
+      if (description != Description()) {
+        Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " is of another model or estimator (" +
+                                 description + "); starting from the priors");
+      } else if (!estimator_->estimator().Restore(state, &why)) {
+        Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " not restored: " + why);
+      } else {
+        restored_ = true;
+        Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" +
+                                 std::to_string(state.counters.accepted()) + " samples, last at t = " +
+                                 std::to_string(state.last_time) + " s)");
+      }
+    } catch (const std::exception& e) {
+      Log(LogLevel::kWarn, std::string("checkpoint unreadable, starting from the priors: ") + e.what());
+    }
+  }
+  impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+}
+
+EstimationDaemon::~EstimationDaemon() = default;
+
+lcm::LCM& EstimationDaemon::lcm() { return impl_->lcm; }
+
+std::string EstimationDaemon::Description() const {
+  std::string d = std::string(ToString(estimator_->kind())) + " estimator; joints";
+  for (const std::string& j : estimator_->model().dof_names()) d += " " + j;
+  d += "; parameters";
+  for (const std::string& p : estimator_->model().ParameterNames()) d += " " + p;
+  return d;
+}
+
+void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
+  if (static_cast<int>(level) > static_cast<int>(options_.log_level)) return;
+  static const char* kNames[] = {"error", "warn", "info", "debug"};
+  const std::string line = std::string("inertiald [") + kNames[static_cast<int>(level)] + "] " + text;
+  if (log_sink_) {
+    log_sink_(line);
+  } else {
+    std::cerr << line << "\n" << std::flush;
+  }
+}
+
+void EstimationDaemon::Process(const JointSample& sample) {
+  const UpdateStatus status = estimator_->Update(sample);
+  {
+    std::lock_guard<std::mutex> lock(counters_mutex_);
+    if (status == UpdateStatus::kAccepted) {
+      ++counters_.accepted;
+    } else if (const char* name = RejectionName(status)) {
+      ++counters_.rejected[name];
+    }
+  }
+  if (status == UpdateStatus::kAccepted) {
+    if (window_start_ < 0 || sample.t >= window_start_ + options_.residual_window_s) {
+      if (window_count_ > 0) {
+        window_rms_ = (window_sum_ / window_count_).cwiseSqrt();
+        window_completed_ = true;
+      }
+      window_sum_.setZero();
+      window_count_ = 0;
+      window_start_ = sample.t;
+    }
+    window_sum_ += estimator_->residual().cwiseAbs2();
+    ++window_count_;
+    last_t_ = sample.t;
+  }
+  if (!options_.residual_channel.empty()) {
+    inertial::residual_t m;
+    m.utime = static_cast<std::int64_t>(std::llround(sample.t * 1e6));
+    m.status = std::string(ToString(status));
+    m.num_channels = static_cast<std::int32_t>(sample.tau.size());
+    m.channel_names = estimator_->model().dof_names();
+    m.measured.assign(sample.tau.data(), sample.tau.data() + sample.tau.size());
+    const Eigen::VectorXd& p = estimator_->predicted();
+    m.predicted.assign(p.data(), p.data() + p.size());
+    m.residual.resize(m.measured.size());
+    for (size_t k = 0; k < m.measured.size(); ++k) m.residual[k] = m.measured[k] - m.predicted[k];
+    impl_->lcm.publish(options_.residual_channel, &m);
+  }
+}
+
+void EstimationDaemon::Publish(std::int64_t utime) {
+  // The last complete window; before the first is complete, the samples so far.
+  const Eigen::VectorXd rms =
+      !window_completed_ && window_count_ > 0 ? Eigen::VectorXd((window_sum_ / window_count_).cwiseSqrt()) : window_rms_;
+  const std::vector<std::uint8_t> bytes =
+      EncodeEstimate(*estimator_, utime, rms, options_.residual_window_s, counters());
+  impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+  std::lock_guard<std::mutex> lock(counters_mutex_);
+  ++counters_.published;
+}
+
+void EstimationDaemon::Checkpoint() {
+  if (options_.checkpoint_path.empty()) return;
+  try {
+    SaveEstimatorState(options_.checkpoint_path, estimator_->estimator().State(), Description());
+    std::lock_guard<std::mutex> lock(counters_mutex_);
+    ++counters_.checkpoints;
+  } catch (const std::exception& e) {
+    Log(LogLevel::kError, std::string("checkpoint failed: ") + e.what());
+  }
+}
+
+int EstimationDaemon::Run(const std::atomic<bool>& stop) {
+  std::atomic<bool> receiver_failed{false}, receiver_stop{false};
+  std::thread receiver([&] {
+    while (!receiver_stop) {
+      if (impl_->lcm.handleTimeout(50) < 0) {
+        receiver_failed = true;
+        return;
+      }
+    }
+  });
+  Log(LogLevel::kInfo, "listening on " + options_.input_channel + ", publishing " + options_.estimate_channel + " at " +
+                           std::to_string(options_.publish_rate_hz) + " Hz (" +
+                           std::to_string(estimator_->model().num_parameters()) + " parameters, " +
+                           std::string(ToString(estimator_->kind())) + ")");
+  JointSample sample = impl_->scratch;
+  double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
+  double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
+  auto utime = [&] { return static_cast<std::int64_t>(std::llround(last_t_ * 1e6)); };
+  while (!stop && !receiver_failed) {
+    if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(sample);
+    const double now = NowSeconds();
+    if (now >= next_publish) {
+      Publish(utime());
+      next_publish = now + 1.0 / options_.publish_rate_hz;
+    }
+    if (now >= next_checkpoint) {
+      Checkpoint();
+      next_checkpoint = now + options_.checkpoint_interval_s;
+    }
+  }
+  receiver_stop = true;
+  receiver.join();
+  while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(sample);
+  Publish(utime());
+  Checkpoint();
+  Log(LogLevel::kInfo, CountersText());
+  if (receiver_failed) {
+    Log(LogLevel::kError, "LCM stopped receiving");
+    return 1;
+  }
+  return 0;
+}
+
+DaemonCounters EstimationDaemon::counters() const {
+  std::lock_guard<std::mutex> lock(counters_mutex_);
+  return counters_;
+}
+
+std::string EstimationDaemon::CountersText() const {
+  const DaemonCounters c = counters();
+  std::ostringstream out;
+  out << "received " << c.received << ", accepted " << c.accepted << ", rejected " << c.total_rejected();
+  if (!c.rejected.empty()) {
+    out << " (";
+    bool first = true;
+    for (const auto& [reason, count] : c.rejected) {
+      out << (first ? "" : ", ") << reason << " " << count;
+      first = false;
+    }
+    out << ")";
+  }
+  out << ", dropped " << c.dropped << "; published " << c.published << " estimates, " << c.checkpoints
+      << " checkpoints";
+  return out.str();
+}
+
+std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::int64_t utime,
+                                         const Eigen::VectorXd& residual_rms, double residual_window,
+                                         const DaemonCounters& counters) {
+  const RobotDynamics& model = est.model();
+  inertial::estimate_t m;
+  m.utime = utime;
+  m.estimator = std::string(ToString(est.kind()));
+  const Eigen::VectorXd& x = est.estimator().parameters();
+  const Eigen::MatrixXd P = est.estimator().Covariance();
+  const bool per_body = est.kind() != EstimatorKind::kLinearRls;
+  const ParameterLayout layout = ParameterLayout::FromRobot(model);
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    inertial::body_estimate_t b;
+    b.name = model.bodies()[e].name;
+    const InertialParams body = est.Body(e);
+    const Vector10 pi = body.vector();
+    for (int i = 0; i < 10; ++i) {
+      b.pi[i] = pi[i];
+      b.theta[i] = per_body ? x[10 * e + i] : 0.0;
+    }
+    b.mass = body.mass();
+    const Vector3 com = body.mass() > 0 ? body.com() : Vector3::Zero();
+    for (int i = 0; i < 3; ++i) b.com[i] = com[i];
+    b.mass_std = 0;
+    for (int i = 0; i < 3; ++i) b.com_std[i] = 0;
+    for (int i = 0; i < 6; ++i) b.inertia_std[i] = 0;
+    if (per_body && P.rows() == x.size() && body.mass() > 0) {
+      const BodyUncertainty u = UncertaintyOf(body, layout.BodyCovariance(e, x, P));
+      b.mass_std = u.mass;
+      for (int i = 0; i < 3; ++i) b.com_std[i] = u.com[i];
+      for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia[i];
+    }
+    const ConsistencyReport c = CheckConsistency(body);
+    b.min_triangle_margin = c.min_triangle_margin;
+    b.min_pseudo_inertia_eigenvalue = c.min_pseudo_inertia_eigenvalue;
+    b.physically_consistent = c.fully_consistent();
+    m.bodies.push_back(b);
+  }
+  m.num_bodies = static_cast<std::int32_t>(m.bodies.size());
+  const std::vector<std::string> names = model.FeatureNames();
+  const Eigen::VectorXd& w = est.coefficients();
+  for (int f = model.num_inertia_features(); f < model.num_features(); ++f) {
+    m.effect_names.push_back(names[f]);
+    m.effect_values.push_back(w[f]);
+  }
+  m.num_effects = static_cast<std::int32_t>(m.effect_names.size());
+  m.channel_names = model.dof_names();
+  m.num_channels = static_cast<std::int32_t>(m.channel_names.size());
+  m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
+  m.residual_rms.resize(m.channel_names.size(), 0.0);
+  m.residual_window = residual_window;
+  m.received = static_cast<std::int64_t>(counters.received);
+  m.accepted = static_cast<std::int64_t>(counters.accepted);
+  m.rejected = static_cast<std::int64_t>(counters.total_rejected());
+  m.dropped = static_cast<std::int64_t>(counters.dropped);
+  for (const auto& [reason, count] : counters.rejected) {
+    m.reject_reasons.push_back(reason);
+    m.reject_counts.push_back(static_cast<std::int64_t>(count));
+  }
+  m.num_reasons = static_cast<std::int32_t>(m.reject_reasons.size());
+  std::vector<std::uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
+  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+}  // namespace inertial

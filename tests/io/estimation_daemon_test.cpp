@@ -1,0 +1,219 @@
+// inertiald in process: LCM's memq:// provider carries a simulated leg's joint states (with
+// malformed messages mixed in) into the daemon; its estimate must equal that of the same estimator
+// fed the good samples directly (so the bad ones changed nothing), every bad message must be
+// counted by reason, the published estimate must decode and be consistent, a full queue must drop
+// and count, and a checkpoint must restore bit for bit.
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+#include <thread>
+
+#include "cli_support.hpp"
+#include "inertial/estimate_t.hpp"
+#include "inertial/io/estimation_daemon.hpp"
+#include "inertial/io/identification_report.hpp"
+#include "simulated_robot.hpp"
+
+namespace inertial {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Stream {
+  RobotModel robot;
+  std::vector<JointSample> samples;
+};
+
+// 10 s of the leg at 200 Hz, links perturbed from the URDF, torque noise 0.3 N m.
+const Stream& LegStream() {
+  static const Stream s = [] {
+    Stream out;
+    out.robot = LoadUrdf(testing::Example("leg3.urdf"));
+    const RobotDynamics model = MakeRobotDynamics(out.robot, {});
+    const Eigen::VectorXd x = testing::TrueParameters(model, {0.0}, 4);
+    const JointSamples log = testing::SimulateLogs(model, x, 0.3, 10.0, 9, 200).train;
+    for (int i = 0; i < log.size(); ++i) {
+      JointSample j;
+      j.t = log.t[i];
+      j.q = log.q.row(i).transpose();
+      j.qd = log.qd.row(i).transpose();
+      j.qdd = log.qdd.row(i).transpose();
+      j.tau = log.tau.row(i).transpose();
+      out.samples.push_back(j);
+    }
+    return out;
+  }();
+  return s;
+}
+
+struct Captured {
+  std::mutex mutex;
+  std::vector<inertial::estimate_t> estimates;
+  void Handle(const lcm::ReceiveBuffer*, const std::string&, const inertial::estimate_t* m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    estimates.push_back(*m);
+  }
+};
+
+DaemonOptions MemqOptions() {
+  DaemonOptions o;
+  o.lcm_url = "memq://";
+  o.publish_rate_hz = 50;
+  o.estimator.measurement_sigma = 0.3;
+  o.log_level = LogLevel::kError;
+  return o;
+}
+
+// Waits until the daemon has seen `received` messages and emptied its queue (at most 20 s).
+void WaitFor(const EstimationDaemon& d, std::uint64_t received) {
+  for (int i = 0; i < 2000; ++i) {
+    const DaemonCounters c = d.counters();
+    if (c.received >= received && c.accepted + c.total_rejected() + c.dropped >= received) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ADD_FAILURE() << "the daemon did not process " << received << " messages in time";
+}
+
+TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
+  const Stream& s = LegStream();
+  const RobotDynamics model = MakeRobotDynamics(s.robot, {});
+  EstimationDaemon daemon(model, MemqOptions());
+  Captured captured;
+  daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+
+  testing::Rng rng(5);
+  std::map<std::string, int> bad;
+  int sent = 0;
+  for (size_t i = 0; i < s.samples.size(); ++i) {
+    const std::vector<std::uint8_t> good = EncodeJointState(s.robot.dof_names, s.samples[i]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", good.data(), static_cast<unsigned>(good.size()));
+    ++sent;
+    if (i % 50 == 25) {  // every kind of bad message, now and then
+      std::vector<std::uint8_t> junk(static_cast<size_t>(rng.Uniform(1, 300)));
+      for (auto& b : junk) b = static_cast<std::uint8_t>(rng.Uniform(0, 256));
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", junk.data(), static_cast<unsigned>(junk.size()));
+      const std::vector<std::uint8_t> truncated(good.begin(), good.begin() + static_cast<long>(good.size() / 2));
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", truncated.data(), static_cast<unsigned>(truncated.size()));
+      bad["decode"] += 2;
+      JointSample nan = s.samples[i];
+      nan.t += 0.001;
+      nan.tau[1] = std::nan("");
+      const std::vector<std::uint8_t> n = EncodeJointState(s.robot.dof_names, nan);
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", n.data(), static_cast<unsigned>(n.size()));
+      bad["non_finite"] += 1;
+      const std::vector<std::uint8_t> unknown = EncodeJointState({"abad", "hip", "ankle"}, s.samples[i]);
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", unknown.data(), static_cast<unsigned>(unknown.size()));
+      bad["unknown_joint"] += 1;
+      JointSample old = s.samples[i];
+      old.t -= 1.0;
+      const std::vector<std::uint8_t> o = EncodeJointState(s.robot.dof_names, old);
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", o.data(), static_cast<unsigned>(o.size()));
+      bad["out_of_order"] += 1;
+      sent += 5;
+    }
+    if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  WaitFor(daemon, static_cast<std::uint64_t>(sent));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // at least one more publication
+  stop = true;
+  runner.join();
+
+  const DaemonCounters c = daemon.counters();
+  EXPECT_EQ(c.received, static_cast<std::uint64_t>(sent));
+  EXPECT_EQ(c.accepted, s.samples.size());
+  EXPECT_EQ(c.dropped, 0u);
+  for (const auto& [reason, count] : bad) {
+    EXPECT_EQ(c.rejected.count(reason) ? c.rejected.at(reason) : 0u, static_cast<std::uint64_t>(count)) << reason;
+  }
+  EXPECT_EQ(c.total_rejected(), static_cast<std::uint64_t>(sent) - s.samples.size());
+
+  // The same estimator fed the good samples alone ends exactly where the daemon did.
+  OnlineEstimatorOptions eo;
+  eo.measurement_sigma = 0.3;
+  OnlineJointEstimator direct(model, Eigen::VectorXd::Zero(model.num_parameters()), eo);
+  for (const JointSample& j : s.samples) direct.Update(j);
+  EXPECT_EQ(daemon.estimator().estimator().parameters(), direct.estimator().parameters());
+
+  // The last published estimate: consistent bodies, the counters, residuals near the noise.
+  std::lock_guard<std::mutex> lock(captured.mutex);
+  ASSERT_FALSE(captured.estimates.empty());
+  const inertial::estimate_t& e = captured.estimates.back();
+  EXPECT_EQ(e.estimator, "gauss_newton");
+  ASSERT_EQ(e.num_bodies, 3);
+  for (const auto& b : e.bodies) {
+    EXPECT_TRUE(b.physically_consistent) << b.name;
+    EXPECT_GT(b.mass_std, 0.0) << b.name;
+  }
+  EXPECT_EQ(e.accepted, static_cast<std::int64_t>(s.samples.size()));
+  EXPECT_EQ(e.rejected, static_cast<std::int64_t>(c.total_rejected()));
+  EXPECT_EQ(e.bodies[2].pi[0], direct.Body(2).mass());
+  ASSERT_EQ(e.num_channels, 3);
+  for (double r : e.residual_rms) {
+    EXPECT_GT(r, 0.2);
+    EXPECT_LT(r, 0.6);  // noise 0.3 N m, the estimate still converging
+  }
+}
+
+// A queue of 8 and a burst of 2000 messages: samples are dropped and counted, none lost from the
+// books (received = accepted + rejected + dropped), and memory stays that of 8 samples.
+TEST(EstimationDaemon, AFullQueueDropsAndCounts) {
+  const Stream& s = LegStream();
+  DaemonOptions o = MemqOptions();
+  o.queue_capacity = 8;
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  for (int i = 0; i < 2000; ++i) {
+    const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[i]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+  }
+  WaitFor(daemon, 2000);
+  stop = true;
+  runner.join();
+  const DaemonCounters c = daemon.counters();
+  EXPECT_EQ(c.received, 2000u);
+  EXPECT_EQ(c.accepted + c.total_rejected() + c.dropped, 2000u);
+  EXPECT_GT(c.dropped, 0u) << daemon.CountersText();
+  EXPECT_GT(c.accepted, 8u);
+}
+
+// Stopped and started again with a checkpoint: the state comes back bit for bit.
+TEST(EstimationDaemon, CheckpointRestoresTheState) {
+  const Stream& s = LegStream();
+  const fs::path checkpoint = testing::UniqueTempPath("state.json");
+  DaemonOptions o = MemqOptions();
+  o.checkpoint_path = checkpoint.string();
+  Eigen::VectorXd x_first;
+  {
+    EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+    EXPECT_FALSE(daemon.restored_from_checkpoint());
+    std::atomic<bool> stop{false};
+    std::thread runner([&] { daemon.Run(stop); });
+    for (int i = 0; i < 500; ++i) {
+      const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[i]);
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+    }
+    WaitFor(daemon, 500);
+    stop = true;
+    runner.join();
+    x_first = daemon.estimator().estimator().parameters();
+    EXPECT_GE(daemon.counters().checkpoints, 1u);
+  }
+  ASSERT_TRUE(fs::exists(checkpoint));
+  EstimationDaemon again(MakeRobotDynamics(s.robot, {}), o);
+  EXPECT_TRUE(again.restored_from_checkpoint());
+  EXPECT_EQ(again.estimator().estimator().parameters(), x_first);
+  EXPECT_EQ(again.estimator().estimator().counters().accepted(), 500u);
+  // A checkpoint of another model is refused with a warning, not restored.
+  std::vector<std::string> log;
+  DaemonOptions other = o;
+  other.estimator.kind = EstimatorKind::kGradient;
+  EstimationDaemon gradient(MakeRobotDynamics(s.robot, {}), other);
+  EXPECT_FALSE(gradient.restored_from_checkpoint());
+  fs::remove(checkpoint);
+}
+
+}  // namespace
+}  // namespace inertial
