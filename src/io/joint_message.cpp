@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <lcm/lcm-cpp.hpp>
+
 #include "inertial/joint_state_t.hpp"
 
 namespace inertial {
@@ -213,6 +215,28 @@ std::vector<std::uint8_t> EncodeJointState(const std::vector<std::string>& names
   std::vector<std::uint8_t> buffer(static_cast<size_t>(m.getEncodedSize()));
   m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
   return buffer;
+}
+
+void WriteJointStateLog(const std::string& path, const std::string& channel, const JointSamples& samples,
+                        bool with_qdd) {
+  lcm::LogFile log(path, "w");
+  if (!log.good()) throw std::runtime_error("cannot write the LCM log '" + path + "'");
+  JointSample s;
+  for (int i = 0; i < samples.size(); ++i) {
+    s.t = samples.t[i];
+    s.q = samples.q.row(i).transpose();
+    s.qd = samples.qd.row(i).transpose();
+    s.qdd = samples.qdd.row(i).transpose();
+    s.tau = samples.tau.row(i).transpose();
+    std::vector<std::uint8_t> bytes = EncodeJointState(samples.joint_names, s, with_qdd);
+    lcm::LogEvent ev;
+    ev.eventnum = i;
+    ev.timestamp = static_cast<std::int64_t>(std::llround(s.t * 1e6));
+    ev.channel = channel;
+    ev.datalen = static_cast<std::int32_t>(bytes.size());
+    ev.data = bytes.data();
+    if (log.writeEvent(&ev) != 0) throw std::runtime_error("cannot write the LCM log '" + path + "'");
+  }
 }
 
 }  // namespace inertial

@@ -61,6 +61,9 @@ struct SimulateCommand {
   std::string perturb = "0", duration = "20", rate = "500", harmonics = "5", base_frequency = "0.1";
   std::string amplitude = "0.9", noise_q = "0", noise_qd = "0", noise_tau = "0", seed = "1", truth_seed = "1";
   bool positions_only = false;
+  std::string start_time = "0";
+  std::string write_log;      ///< also write the samples as an LCM log of inertial.joint_state_t
+  std::string log_channel = "INERTIAL_JOINT_STATE";
 };
 CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);
@@ -83,5 +86,13 @@ struct DiagnoseCommand {
 };
 CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);
 int RunDiagnoseCommand(const DiagnoseCommand& command);
+
+struct ReplayCommand {
+  std::string model, log, effects, config, channel, out, write_log;
+  std::string estimator = "gauss_newton", sigma = "1", period = "0.1";
+  bool realtime = false;
+};
+CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* command);
+int RunReplayCommand(const ReplayCommand& command);
 
 }  // namespace inertial::cli

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   CLI::App* check_app = AddCheckCommand(app, &check);
   SimulateCommand simulate;
   CLI::App* simulate_app = AddSimulateCommand(app, &simulate);
+  ReplayCommand replay;
+  CLI::App* replay_app = AddReplayCommand(app, &replay);
   DiagnoseCommand diagnose;
   CLI::App* diagnose_app = AddDiagnoseCommand(app, &diagnose);
   try {
@@ -40,6 +42,7 @@ int main(int argc, char** argv) {
     if (check_app->parsed()) return RunCheckCommand(check);
     if (simulate_app->parsed()) return RunSimulateCommand(simulate);
     if (diagnose_app->parsed()) return RunDiagnoseCommand(diagnose);
+    if (replay_app->parsed()) return RunReplayCommand(replay);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;

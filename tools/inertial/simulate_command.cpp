@@ -11,6 +11,7 @@
 #include "exit_codes.hpp"
 #include "inertial/io/identification_report.hpp"
 #include "inertial/io/joint_csv.hpp"
+#include "inertial/io/joint_message.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/joint_simulation.hpp"
 #include "option_parsing.hpp"
@@ -24,7 +25,10 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
       "excitation (Swevers et al. 1997) under computed-torque PD control, integrated by RK4; writes the joint log "
       "in the CSV contract of `identify` (t, q_J, qd_J, qdd_J, tau_J), with optional Gaussian noise.");
   sub->add_option("--model", c->model, "URDF robot description")->required();
-  sub->add_option("--out", c->out, "the CSV log to write")->required();
+  sub->add_option("--out", c->out, "the CSV log to write");
+  sub->add_option("--write-log", c->write_log,
+                  "also (or instead) write the stream as an LCM log of inertial.joint_state_t (as lcm-logger would)");
+  sub->add_option("--log-channel", c->log_channel, "channel of --write-log")->default_val("INERTIAL_JOINT_STATE");
   sub->add_option("--effects", c->effects, "effects in the true robot (syntax of identify --effects)");
   sub->add_option("--effect-values", c->effect_values,
                   "true coefficients, one per effect term in list order (an effect without @ gives one term per "
@@ -35,6 +39,9 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
       ->default_val("0");
   sub->add_option("--duration", c->duration, "seconds of log")->default_val("20");
   sub->add_option("--rate", c->rate, "sample rate [Hz]")->default_val("500");
+  sub->add_option("--start-time", c->start_time,
+                  "time of the first sample [s] (the excitation runs from there: logs that continue one another)")
+      ->default_val("0");
   sub->add_option("--harmonics", c->harmonics, "harmonics of the excitation")->default_val("5");
   sub->add_option("--base-frequency", c->base_frequency, "base frequency of the excitation [Hz]")->default_val("0.1");
   sub->add_option("--amplitude", c->amplitude, "bound of every joint's excursion [rad or m]")->default_val("0.9");
@@ -52,11 +59,17 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
 }
 
 int RunSimulateCommand(const SimulateCommand& c) {
+  if (c.out.empty() && c.write_log.empty()) {
+    std::cerr << "Error: give --out CSV and/or --write-log LCM\n";
+    return kUsage;
+  }
   double perturb = 0, duration = 0, rate = 0, base_frequency = 0, amplitude = 0, noise_q = 0, noise_qd = 0, noise_tau = 0;
   int harmonics = 0;
   std::uint64_t seed = 0;
   int status = ParseRealOption(c.perturb, "--perturb", 0.0, 5.0, &perturb);
   if (status == kOk) status = ParseRealOption(c.duration, "--duration", 1e-3, 1e6, &duration);
+  double start_time = 0.0;
+  if (status == kOk) status = ParseRealOption(c.start_time, "--start-time", -1e9, 1e9, &start_time);
   if (status == kOk) status = ParseRealOption(c.rate, "--rate", 1.0, 1e6, &rate);
   if (status == kOk) status = ParseInteger(c.harmonics, "--harmonics", 1, 100, &harmonics);
   if (status == kOk) status = ParseRealOption(c.base_frequency, "--base-frequency", 1e-6, 1e3, &base_frequency);
@@ -112,6 +125,7 @@ int RunSimulateCommand(const SimulateCommand& c) {
   };
   JointSimulationOptions options;
   options.duration = duration;
+  options.start_time = start_time;
   options.sample_rate_hz = rate;
   options.internal_step = std::min(5e-4, 1.0 / rate);
   const FourierTrajectory reference =
@@ -144,7 +158,15 @@ int RunSimulateCommand(const SimulateCommand& c) {
   }
   samples = AddGaussianNoise(samples, SampleNoise{noise_q, noise_qd, 0.0, noise_tau}, seed + 1);
   try {
-    if (c.positions_only) {
+    if (!c.write_log.empty()) WriteJointStateLog(c.write_log, c.log_channel, samples, !c.positions_only);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "Error: --write-log: " << e.what() << "\n";
+    return kIoError;
+  }
+  try {
+    if (c.out.empty()) {
+      // only the LCM log
+    } else if (c.positions_only) {
       const int n = model->num_dofs();
       Eigen::MatrixXd columns(samples.size(), 1 + 2 * n);
       columns << samples.t, samples.q, samples.tau;
@@ -184,7 +206,8 @@ int RunSimulateCommand(const SimulateCommand& c) {
       return kIoError;
     }
   }
-  std::cerr << "wrote " << c.out << ": " << samples.size() << " samples of " << model->num_dofs() << " joints, "
+  std::cerr << "wrote " << (c.out.empty() ? c.write_log : c.out) << (c.out.empty() || c.write_log.empty() ? "" : " and " + c.write_log)
+            << ": " << samples.size() << " samples of " << model->num_dofs() << " joints, "
             << duration << " s at " << rate << " Hz\n";
   return kOk;
 }

@@ -15,6 +15,7 @@
 
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/io/lcm_layout.hpp"
+#include "inertial/model/joint_samples.hpp"
 
 namespace inertial {
 
@@ -65,5 +66,11 @@ class JointMessageDecoder {
 /// Encodes a sample as inertial.joint_state_t (names in the sample's DOF order, utime = t * 1e6).
 std::vector<std::uint8_t> EncodeJointState(const std::vector<std::string>& names, const JointSample& sample,
                                            bool with_qdd = true);
+
+/// Writes every sample of a joint log as an LCM log (lcm::LogFile, as lcm-logger writes) of
+/// inertial.joint_state_t on `channel`, event time stamps = sample times.
+/// @throws std::runtime_error if the file cannot be written.
+void WriteJointStateLog(const std::string& path, const std::string& channel, const JointSamples& samples,
+                        bool with_qdd = true);
 
 }  // namespace inertial
