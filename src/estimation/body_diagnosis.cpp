@@ -65,11 +65,19 @@ BodyDiagnosis DiagnoseBodyModel(const InertialParams& prior, const std::vector<B
   out.effects = effects;
   out.train_pairs = train.num_pairs();
   out.validation_pairs = validation.num_pairs();
+  if ((train.gravity.empty()) != (validation.gravity.empty())) {
+    throw std::invalid_argument("single-body diagnosis: the training and held-out logs must both have gravity or neither");
+  }
   const BodyEffectModel base(prior, effects);
   out.fit = FitBodyModel(base, train, options.fit);
   out.fit_train = WrenchErrors(base, out.fit.x, train);
   out.fit_validation = WrenchErrors(base, out.fit.x, validation);
   out.prior_validation = WrenchErrors(base, Eigen::VectorXd::Zero(base.num_parameters()), validation);
+  if (!std::isfinite(out.fit_validation.total_rms) || !std::isfinite(out.prior_validation.total_rms)) {
+    throw std::invalid_argument("single-body diagnosis: the model's wrenches are not finite numbers (check the data's "
+                                "magnitudes and units)");
+  }
+
   for (BodyEffectKind kind : {BodyEffectKind::kForceBias, BodyEffectKind::kMomentBias, BodyEffectKind::kVelocityBias,
                               BodyEffectKind::kGravity}) {
     if (std::find(effects.begin(), effects.end(), kind) != effects.end()) continue;
@@ -91,10 +99,12 @@ BodyDiagnosis DiagnoseBodyModel(const InertialParams& prior, const std::vector<B
   std::stable_sort(out.candidates.begin(), out.candidates.end(), [](const BodyCandidateResult& a, const BodyCandidateResult& b) {
     return RankingKey(a.explained, ParameterCount(a.kind)) > RankingKey(b.explained, ParameterCount(b.kind));
   });
+  const bool converged = out.fit.lm.converged();
   const auto end = std::stable_partition(out.candidates.begin(), out.candidates.end(), [&](const BodyCandidateResult& c) {
-    return c.explained >= options.min_explained;
+    return SupportedByHeldOutData(out.fit_validation, c.validation, c.explained, options.min_explained,
+                                  options.min_gain);
   });
-  out.num_suggestions = static_cast<int>(end - out.candidates.begin());
+  out.num_suggestions = converged ? static_cast<int>(end - out.candidates.begin()) : 0;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -16,4 +16,13 @@ double ExplainedShare(const Eigen::VectorXd& rms_without, const Eigen::VectorXd&
   return sum / static_cast<double>(rms_without.size());
 }
 
+bool SupportedByHeldOutData(const TorqueErrors& without, const TorqueErrors& with, double explained,
+                            double min_explained, double min_gain) {
+  if (!(explained >= min_explained) || !(with.total_rms < without.total_rms)) return false;
+  for (int c = 0; c < without.relative_rms.size(); ++c) {
+    if (without.relative_rms[c] - with.relative_rms[c] >= min_gain) return true;
+  }
+  return false;
+}
+
 }  // namespace inertial

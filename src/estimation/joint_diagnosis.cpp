@@ -96,7 +96,8 @@ TorqueErrors ErrorsFromNormalEquations(const std::vector<JointNormalEquations>& 
   for (int k = 0; k < n; ++k) {
     const double s = SquaredError(jointwise[k], w);
     e.rms[k] = std::sqrt(s / N);
-    e.relative_rms[k] = e.rms[k] / std::max(std::sqrt(jointwise[k].btb / N), 1e-300);
+    // A joint whose measured torque is all zero has no relative error.
+    e.relative_rms[k] = jointwise[k].btb > 0 ? e.rms[k] / std::sqrt(jointwise[k].btb / N) : std::nan("");
     sse += s;
     sst += jointwise[k].btb;
   }
@@ -112,6 +113,12 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   JointDiagnosis out;
   out.effects = effects;
   const RobotDynamics base = make(effects);
+  if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
+    throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
+                                std::to_string(static_cast<long>(train.size()) * base.num_dofs()) +
+                                " torque equations, fewer than the model's " + std::to_string(base.num_parameters()) +
+                                " parameters");
+  }
 
   // The candidates: every catalog effect the model lacks.
   std::set<std::pair<EffectKind, std::string>> present;
@@ -181,10 +188,16 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   out.fit = base_job[0].fit;
   out.fit_validation = base_job[0].validation;
   {
+    // The URDF's own prediction: its links alone (no payload or rotor priors, no effects).
+    const RobotDynamics links = make({});
     std::vector<JointNormalEquations> v;
-    for (const JointNormalEquations& e : validation_eq) v.push_back(Restrict(e, base_job[0].features));
-    out.prior_validation = ErrorsFromNormalEquations(v, base.Coefficients(PriorParametersWithoutEffects(base)));
+    for (const JointNormalEquations& e : validation_eq) v.push_back(Restrict(e, features_of(links)));
+    out.prior_validation = ErrorsFromNormalEquations(v, links.Coefficients(Eigen::VectorXd::Zero(links.num_parameters())));
     out.fit_train = CompareTorques(PredictJointTorques(base, out.fit.x, train), train.tau);
+  }
+  if (!std::isfinite(out.fit_validation.total_rms) || !std::isfinite(out.prior_validation.total_rms)) {
+    throw std::invalid_argument("diagnosis: the model's torques are not finite numbers (check gravity, units and "
+                                "the data's magnitudes)");
   }
 
   if (!effects.empty()) {
@@ -247,9 +260,16 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
                    [&](const CandidateResult& a, const CandidateResult& b) { return key(a) > key(b); });
   // Suggestions first: every candidate at or above the threshold, in ranking order.
   const auto end = std::stable_partition(out.candidates.begin(), out.candidates.end(), [&](const CandidateResult& c) {
-    return c.explained >= options.min_explained;
+    return SupportedByHeldOutData(out.fit_validation, c.validation, c.explained, options.min_explained,
+                                  options.min_gain);
   });
   out.num_suggestions = static_cast<int>(end - out.candidates.begin());
+  if (!out.fit.lm.converged()) {
+    out.num_suggestions = 0;
+    out.notes.push_back("the model's own fit did not converge (" + std::string(ToString(out.fit.lm.reason)) + " after " +
+                        std::to_string(out.fit.lm.iterations) +
+                        " iterations): its candidates would all look good, so none is suggested; raise the iteration cap");
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -86,7 +86,8 @@ std::vector<JointNormalEquations> AccumulateJointwiseNormalEquations(const Robot
 }
 
 double SquaredError(const JointNormalEquations& eq, const Eigen::VectorXd& w) {
-  return std::max(0.0, w.dot(eq.AtA * w) - 2.0 * w.dot(eq.Atb) + eq.btb);
+  const double e = w.dot(eq.AtA * w) - 2.0 * w.dot(eq.Atb) + eq.btb;
+  return e < 0.0 ? 0.0 : e;  // rounding can make it slightly negative; NaN stays NaN
 }
 
 Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const JointNormalEquations& data,

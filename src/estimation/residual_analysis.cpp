@@ -86,7 +86,8 @@ ResidualAnalysis AnalyzeResiduals(const JointSamples& data, const Eigen::MatrixX
     Eigen::Index worst = 0;
     block.colwise().squaredNorm().maxCoeff(&worst);
     w.worst_joint = static_cast<int>(worst);
-    windows.push_back(w);
+    // A short remainder at the end of the log is not a window of the asked length.
+    if (w.t_end - w.t_start >= 0.5 * window_seconds || windows.empty()) windows.push_back(w);
     start = end;
   }
   std::sort(windows.begin(), windows.end(), [](const ResidualWindow& a, const ResidualWindow& b) { return a.rms > b.rms; });

@@ -121,6 +121,7 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
     gp << "set terminal pngcairo size 1200," << height << " font 'sans,10'\n"
        << "set output '" << png << "'\n"
        << "set multiplot layout " << n << ",1 title " << GnuplotQuoted(title) << "\n"
+       << "set termoption noenhanced\n"  // names like lwr_0_joint and coulomb@knee are not markup
        << "set grid\nset key outside right top\nset lmargin 12\nset rmargin 22\n";
   };
   std::vector<std::pair<std::string, std::string>> figures;  // file, caption
@@ -166,7 +167,7 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
   }
   {
     std::ostringstream gp;
-    gp << "set terminal pngcairo size 1200,450 font 'sans,10'\nset output 'errors.png'\n"
+    gp << "set terminal pngcairo size 1200,450 font 'sans,10'\nset output 'errors.png'\nset termoption noenhanced\n"
        << "set title " << GnuplotQuoted(d.title + ": held-out RMS error before and after each effect") << "\n"
        << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
        << "set ylabel " << GnuplotQuoted("RMS [" + d.unit + "]") << "\nset grid ytics\nset key outside right top\n"

@@ -20,7 +20,7 @@ std::string F(double x, const char* format = "%.3g") {
   return s;
 }
 
-std::string Percent(double share) { return F(100.0 * share, "%.1f") + " %"; }
+std::string Percent(double share) { return std::isfinite(share) ? F(100.0 * share, "%.1f") + " %" : "n/a"; }
 
 int DofIndex(const RobotDynamics& model, const std::string& joint) {
   for (int k = 0; k < model.num_dofs(); ++k) {
@@ -53,11 +53,21 @@ void ErrorTable(std::ostringstream& out, const std::vector<std::string>& names, 
       << F(after.total_rms, "%.4g") << " (" << Percent(after.total_relative_rms) << ") " << unit << "\n";
 }
 
-// The explanation of a candidate the held-out data do not support.
-std::string NotSuggested(double explained) {
-  return explained >= 0.0 ? "not supported by the held-out data: it removes only " + Percent(explained) + " of the error"
-                          : "not supported by the held-out data: it makes the held-out error worse by " +
-                                Percent(-explained) + " (it fits noise or another effect on the training data)";
+// Why the held-out data do not support a candidate (explained_error.hpp's three conditions).
+std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, double explained, double min_explained,
+                         double min_gain) {
+  const std::string prefix = "not supported by the held-out data: ";
+  if (explained < 0.0) {
+    return prefix + "it makes the held-out error worse by " + Percent(-explained) +
+           " (it fits noise or another effect on the training data)";
+  }
+  if (explained < min_explained) return prefix + "it removes only " + Percent(explained) + " of the error";
+  if (!(with.total_rms < without.total_rms)) {
+    return prefix + "it removes " + Percent(explained) + " on average over joints, but the pooled error rises (" +
+           F(without.total_rms, "%.4g") + " -> " + F(with.total_rms, "%.4g") + ")";
+  }
+  return prefix + "no joint's error falls by " + Percent(min_gain) + " of its torque (" + Percent(explained) +
+         " of a residual that small is not a missing effect)";
 }
 
 }  // namespace
@@ -144,10 +154,16 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (averaged over "
          "joints; suggested from "
       << Percent(c.min_explained) << ")\n";
-  if (d.num_suggestions == 0) {
-    out << "  No missing effect found: no candidate removes " << Percent(c.min_explained) << " of the held-out error";
+  if (d.num_suggestions == 0 && !d.fit.lm.converged()) {
+    out << "  No suggestion: the model's own fit did not converge (see the note below).\n";
+  } else if (d.num_suggestions == 0) {
+    out << "  No missing effect found: no candidate is supported by the held-out data (removing "
+        << Percent(c.min_explained) << " of its mean-square error, lowering the pooled error, and lowering some "
+        << "joint's error by " << Percent(c.min_gain) << " of its torque)";
     if (!d.candidates.empty()) {
-      out << " (best: " << d.candidates[0].name << ", " << Percent(d.candidates[0].explained) << ")";
+      out << "; best: " << d.candidates[0].name << ", "
+          << NotSuggested(d.fit_validation, d.candidates[0].validation, d.candidates[0].explained, c.min_explained,
+                          c.min_gain);
     }
     out << ". The model explains these data as well as any effect of the catalog would.\n";
   }
@@ -224,7 +240,9 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
     s["name"] = r.name;
     s["rms_validation_after"] = PerJointJson(model, r.validation.rms, r.validation.total_rms);
     s["explained"] = r.explained;
-    s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r) : NotSuggested(r.explained);
+    s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r)
+                                             : NotSuggested(d.fit_validation, r.validation, r.explained,
+                                                            c.min_explained, c.min_gain);
     s["values"] = r.values;
     s["converged"] = r.converged;
     s["suggested"] = i < d.num_suggestions;
@@ -319,14 +337,15 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
     const CandidateResult& r = d.candidates[i];
     rows.push_back({std::string(ToString(r.spec.kind)), r.joint.empty() ? r.link : r.joint, r.explained,
                     r.validation.total_rms, i < d.num_suggestions,
-                    i < d.num_suggestions ? CandidateExplanation(c, r) : NotSuggested(r.explained)});
+                    i < d.num_suggestions ? CandidateExplanation(c, r)
+                                          : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
+                                                         c.min_gain)});
   }
   std::vector<std::string> summary{
       "Held-out RMS torque error: URDF prior " + F(d.prior_validation.total_rms, "%.4g") + " N m, fitted model " +
           F(d.fit_validation.total_rms, "%.4g") + " N m (" + std::to_string(d.validation_samples) + " samples, " +
           c.validation_source + ").",
-      d.num_suggestions == 0 ? "No missing effect found: no candidate removes " + Percent(c.min_explained) +
-                                   " of the held-out error."
+      d.num_suggestions == 0 ? std::string("No missing effect found: no candidate is supported by the held-out data.")
                              : "Top suggestion: " + d.candidates[0].name + " (" + CandidateExplanation(c, d.candidates[0]) +
                                    "); held-out RMS with it " + F(d.candidates[0].validation.total_rms, "%.4g") +
                                    " N m."};
@@ -375,7 +394,8 @@ std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
   out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (suggested from "
       << Percent(c.min_explained) << ")\n";
   if (d.num_suggestions == 0) {
-    out << "  No missing effect found: no candidate removes " << Percent(c.min_explained) << " of the held-out error.\n";
+    out << (d.fit.lm.converged() ? "  No missing effect found: no candidate is supported by the held-out data.\n"
+                                 : "  No suggestion: the model's own fit did not converge (raise --max-iterations).\n");
   }
   for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
     const BodyCandidateResult& r = d.candidates[i];
@@ -422,7 +442,10 @@ nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c) {
                         {"target", "body"},
                         {"rms_validation_after", Channels(r.validation.rms, r.validation.total_rms)},
                         {"explained", r.explained},
-                        {"explanation", i < d.num_suggestions ? BodyCandidateExplanation(r) : NotSuggested(r.explained)},
+                        {"explanation", i < d.num_suggestions
+                                            ? BodyCandidateExplanation(r)
+                                            : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
+                                                           c.min_gain)},
                         {"values", std::vector<double>(r.values.data(), r.values.data() + r.values.size())},
                         {"converged", r.converged},
                         {"suggested", i < d.num_suggestions}};
@@ -465,7 +488,9 @@ void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisC
   for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
     const BodyCandidateResult& r = d.candidates[i];
     rows.push_back({std::string(ToString(r.kind)), "body", r.explained, r.validation.total_rms, i < d.num_suggestions,
-                    i < d.num_suggestions ? BodyCandidateExplanation(r) : NotSuggested(r.explained)});
+                    i < d.num_suggestions ? BodyCandidateExplanation(r)
+                                          : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
+                                                         c.min_gain)});
   }
   std::vector<std::string> summary{"Held-out RMS wrench error: prior " + F(d.prior_validation.total_rms, "%.4g") +
                                    ", fitted model " + F(d.fit_validation.total_rms, "%.4g") + " (" +

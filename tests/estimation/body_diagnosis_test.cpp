@@ -16,6 +16,7 @@ using testing::Rng;
 struct Hidden {
   Vector6 velocity_bias = Vector6::Zero();
   Vector3 force_bias = Vector3::Zero();
+  Vector3 moment_bias = Vector3::Zero();
 };
 
 const InertialParams& TrueBody() {
@@ -45,6 +46,7 @@ BodyLog Simulate(double rate, double seconds, double twist_noise, const Hidden& 
     s.twist = sim.twists[i] + hidden.velocity_bias;
     s.wrench = wrench(times[i]);
     s.wrench.tail<3>() += hidden.force_bias;
+    s.wrench.head<3>() += hidden.moment_bias;
     for (int k = 0; k < 6; ++k) {
       s.twist[k] += rng.Uniform(-twist_noise / 2, twist_noise / 2);
       s.wrench[k] += rng.Normal(0.01);
@@ -114,6 +116,18 @@ TEST(BodyDiagnosis, FindsAForceSensorBias) {
   EXPECT_LT((d.candidates[0].values - hidden.force_bias).cwiseAbs().maxCoeff(), 0.02) << d.candidates[0].values.transpose();
   EXPECT_LT(d.candidates[0].validation.total_rms, 1.03 * r.clean.fit_validation.total_rms);
   ExpectConsistent(d);
+}
+
+// A moment bias of about 10 % of the applied moment.
+TEST(BodyDiagnosis, FindsAMomentBias) {
+  Hidden hidden;
+  hidden.moment_bias = Vector3(0.05, 0.05, -0.1);
+  const Pair r = Diagnose(100.0, 40.0, 0.005, hidden);
+  const BodyDiagnosis& d = r.with_hidden;
+  ASSERT_GE(d.num_suggestions, 1);
+  EXPECT_EQ(d.candidates[0].kind, BodyEffectKind::kMomentBias);
+  EXPECT_LT((d.candidates[0].values - hidden.moment_bias).cwiseAbs().maxCoeff(), 0.02) << d.candidates[0].values.transpose();
+  EXPECT_LT(d.candidates[0].validation.total_rms, 1.03 * r.clean.fit_validation.total_rms);
 }
 
 // Clean data: nothing is suggested; with the effect already in the model, nothing either.

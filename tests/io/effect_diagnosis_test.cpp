@@ -32,6 +32,8 @@ struct Case {
   bool savitzky_golay = false;  // q with 1e-4 rad encoder noise, qd and qdd by Savitzky-Golay
   bool hold_links = false;      // true links = the URDF's (else perturbed), links held in the fit
   std::string model_effects;    // effects the diagnosed model has
+  double sigma = kSigma;         // torque noise of the logs
+  int max_iterations = 1000;     // of every fit
 };
 
 struct Outcome {
@@ -54,7 +56,7 @@ Outcome RunCase(const Case& c) {
   const RobotDynamics truth = MakeRobotDynamics(out.robot, ParseEffectList(c.hidden));
   Eigen::VectorXd x = testing::TrueParameters(truth, c.values.empty() ? std::vector<double>{0.0} : c.values, 7);
   if (c.hold_links) x.head(10 * out.robot.tree.num_bodies()).setZero();
-  testing::SimulatedLogs logs = testing::SimulateLogs(truth, x, kSigma, c.seconds, 21, c.rate);
+  testing::SimulatedLogs logs = testing::SimulateLogs(truth, x, c.sigma, c.seconds, 21, c.rate);
   if (c.savitzky_golay) {
     Differentiate(&logs.train, 1);
     Differentiate(&logs.test, 2);
@@ -69,6 +71,7 @@ Outcome RunCase(const Case& c) {
   const RobotModelFactory make = [&robot](const std::vector<EffectSpec>& e) { return MakeRobotDynamics(robot, e); };
   JointDiagnosisOptions options;
   options.hold_links = c.hold_links;
+  options.fit.lm.max_iterations = c.max_iterations;
   out.diagnosis = DiagnoseJointModel(make, ParseEffectList(c.model_effects), robot.body_links, logs.train, logs.test, options);
   // Every body of the diagnosed model's fit is consistent.
   const RobotDynamics model = make(ParseEffectList(c.model_effects));
@@ -189,6 +192,35 @@ TEST(EffectDiagnosis, RankingHoldsWithSavitzkyGolayAt200HzAnd1kHz) {
   clean.savitzky_golay = true;
   const Outcome o = RunCase(clean);
   EXPECT_EQ(o.diagnosis.num_suggestions, 0) << Ranking(o.diagnosis);
+}
+
+// The data's friction is not the candidate's shape: tanh(qd / 0.05) in the data, tanh(qd / 0.01)
+// in the candidate. Still found, and the error falls to within 5 % of the truth's.
+TEST(EffectDiagnosis, CoulombOfAnotherShapeIsStillFound) {
+  const Outcome o = RunCase(Case{"leg3.urdf", "coulomb@knee:scale=0.05", {0.1}});
+  ExpectFound(o, "coulomb@knee", 2);
+}
+
+// Noise-free data: the regularized fit leaves a tiny residual (the prior's pull), which no
+// candidate may "explain".
+TEST(EffectDiagnosis, NoiseFreeDataGetsNoSuggestion) {
+  Case c{"leg3.urdf", "", {}};
+  c.sigma = 0.0;
+  const Outcome o = RunCase(c);
+  EXPECT_EQ(o.diagnosis.num_suggestions, 0) << Ranking(o.diagnosis);
+  EXPECT_LT(o.diagnosis.fit_validation.total_relative_rms, 0.01);
+}
+
+// A fit stopped early (3 iterations) leaves an error every candidate would lower: nothing is
+// suggested, and a note says why.
+TEST(EffectDiagnosis, NothingIsSuggestedWhenTheModelsFitDidNotConverge) {
+  Case c{"leg3.urdf", "coulomb@knee", {0.1}};
+  c.max_iterations = 3;
+  const Outcome o = RunCase(c);
+  EXPECT_FALSE(o.diagnosis.fit.lm.converged());
+  EXPECT_EQ(o.diagnosis.num_suggestions, 0) << Ranking(o.diagnosis);
+  ASSERT_FALSE(o.diagnosis.notes.empty());
+  EXPECT_NE(o.diagnosis.notes.back().find("did not converge"), std::string::npos);
 }
 
 // The 7-DOF arm (35 candidates): Coulomb friction on the wrist.

@@ -75,13 +75,9 @@ struct DiagnoseCommand {
   bool hold_links = false;
   bool json = false;
   std::string min_explained = "0.02";
-  std::string prior_weight = "0.01";
   std::string max_iterations = "1000";
-  std::string gravity = "0 0 -9.81";
-  std::string sg_order = "4";
-  std::string sg_window = "0.1";
-  std::string threads = "0";
-  std::string iterate = "0";
+  // Robot-only options: empty means the default (and lets --body refuse them when given).
+  std::string prior_weight, gravity, sg_order, sg_window, threads, iterate;
   bool skip_bad_rows = false;
 };
 CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);

@@ -37,16 +37,15 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
   sub->add_option("--min-explained", c->min_explained,
                   "share of the held-out mean-square error a candidate must remove to be suggested, in (0, 1)")
       ->default_val("0.02");
-  sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0")->default_val("0.01");
+  sub->add_option("--prior-weight", c->prior_weight, "robots: gamma of eq. 14, >= 0 (default 0.01)");
   sub->add_option("--max-iterations", c->max_iterations, "iteration cap of every fit, 1 to 100000")
       ->default_val("1000");
-  sub->add_option("--gravity", c->gravity, "gravity in the base frame [m/s^2]")->default_val("0 0 -9.81");
-  sub->add_option("--sg-order", c->sg_order, "Savitzky-Golay order for missing qd/qdd, 2 to 10")->default_val("4");
-  sub->add_option("--sg-window", c->sg_window, "Savitzky-Golay window [s]")->default_val("0.1");
+  sub->add_option("--gravity", c->gravity, "robots: gravity in the base frame [m/s^2] (default 0 0 -9.81)");
+  sub->add_option("--sg-order", c->sg_order, "robots: Savitzky-Golay order for missing qd/qdd, 2 to 10 (default 4)");
+  sub->add_option("--sg-window", c->sg_window, "robots: Savitzky-Golay window [s] (default 0.1)");
   sub->add_option("--iterate", c->iterate,
-                  "robots: add the top suggestion and diagnose again, up to N times or until nothing is suggested")
-      ->default_val("0");
-  sub->add_option("--threads", c->threads, "threads for the candidate fits (0: one per core)")->default_val("0");
+                  "robots: add the top suggestion and diagnose again, up to N times or until nothing is suggested");
+  sub->add_option("--threads", c->threads, "robots: threads for the candidate fits (default 0: one per core)");
   sub->add_flag("--skip-bad-rows", c->skip_bad_rows, "skip (and count) malformed rows of robot logs");
   sub->add_option("--report", c->report_dir, "write DIR/index.html (self-contained, with gnuplot figures)");
   sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
@@ -139,7 +138,13 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   BodyDiagnosisOptions options;
   options.min_explained = min_explained;
   options.fit.max_iterations = max_iterations;
-  const BodyDiagnosis d = DiagnoseBodyModel(prior, effects, train, validation, options);
+  BodyDiagnosis d;
+  try {
+    d = DiagnoseBodyModel(prior, effects, train, validation, options);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
   BodyDiagnosisContext context;
   context.diagnosis = &d;
   context.validation = &validation;
@@ -162,14 +167,17 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   options.fit.lm.max_iterations = max_iterations;
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;
-  int status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options.fit.prior_weight);
-  if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv.differentiation.order);
-  if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
-  if (status == kOk) status = ParseInteger(c.threads, "--threads", 0, 256, &options.threads);
+  auto or_default = [](const std::string& text, const char* fallback) { return text.empty() ? std::string(fallback) : text; };
+  int status = ParseRealOption(or_default(c.prior_weight, "0.01"), "--prior-weight", 0.0, 1e12, &options.fit.prior_weight);
+  if (status == kOk) status = ParseInteger(or_default(c.sg_order, "4"), "--sg-order", 2, 10, &csv.differentiation.order);
+  if (status == kOk) {
+    status = ParseRealOption(or_default(c.sg_window, "0.1"), "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
+  }
+  if (status == kOk) status = ParseInteger(or_default(c.threads, "0"), "--threads", 0, 256, &options.threads);
   int iterate = 0;
-  if (status == kOk) status = ParseInteger(c.iterate, "--iterate", 0, 1000, &iterate);
+  if (status == kOk) status = ParseInteger(or_default(c.iterate, "0"), "--iterate", 0, 1000, &iterate);
   Vector3 gravity;
-  if (status == kOk) status = ParseGravityOption(c.gravity, &gravity);
+  if (status == kOk) status = ParseGravityOption(or_default(c.gravity, "0 0 -9.81"), &gravity);
   if (status != kOk) return status;
   RobotModel robot;
   std::vector<EffectSpec> effects;
@@ -198,9 +206,14 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
     return MakeRobotDynamics(robot, e, gravity);
   };
   std::vector<DiagnosisStep> path;
-  const JointDiagnosis d =
-      iterate > 0 ? IterateJointDiagnosis(make, effects, robot.body_links, train, validation, options, iterate, &path)
-                  : DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+  JointDiagnosis d;
+  try {
+    d = iterate > 0 ? IterateJointDiagnosis(make, effects, robot.body_links, train, validation, options, iterate, &path)
+                    : DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
   if (!path.empty()) model.emplace(make(d.effects));  // the final model, with every added effect
   const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, validation, source, min_explained);
   const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context);
@@ -226,9 +239,17 @@ int RunDiagnoseCommand(const DiagnoseCommand& c) {
     std::cerr << "Error: --validate and --holdout exclude each other\n";
     return kUsage;
   }
-  if (c.body && (c.hold_links || c.iterate != "0")) {
-    std::cerr << "Error: " << (c.hold_links ? "--hold-links" : "--iterate") << " needs --model\n";
-    return kUsage;
+  if (c.body) {
+    const std::pair<bool, const char*> robot_only[] = {
+        {c.hold_links, "--hold-links"},      {!c.iterate.empty(), "--iterate"},    {!c.gravity.empty(), "--gravity"},
+        {!c.sg_order.empty(), "--sg-order"}, {!c.sg_window.empty(), "--sg-window"}, {!c.threads.empty(), "--threads"},
+        {!c.prior_weight.empty(), "--prior-weight"}, {c.skip_bad_rows, "--skip-bad-rows"}};
+    for (const auto& [given, name] : robot_only) {
+      if (given) {
+        std::cerr << "Error: " << name << " needs --model (it does not apply to --body data)\n";
+        return kUsage;
+      }
+    }
   }
   if (!c.body && !c.prior.empty()) {
     std::cerr << "Error: --prior is for --body data (robots take their priors from the URDF)\n";

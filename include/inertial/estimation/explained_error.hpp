@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "inertial/estimation/joint_identification.hpp"
+
 namespace inertial {
 
 /// @throws std::invalid_argument if the sizes differ or are zero.
@@ -21,5 +23,13 @@ double ExplainedShare(const Eigen::VectorXd& rms_without, const Eigen::VectorXd&
 /// and large q0 is one) ranks below it. Suggestions still need explained >= the threshold.
 inline constexpr double kParsimony = 0.005;
 inline double RankingKey(double explained, int parameters) { return explained - kParsimony * (parameters - 1); }
+
+/// Whether the held-out data support a candidate, beyond its score: (a) explained >= min_explained;
+/// (b) the pooled held-out mean-square error falls (a candidate that helps small channels while
+/// hurting the others is not suggested); (c) on some channel the held-out RMS falls by at least
+/// min_gain of that channel's measured RMS (so the tiny residual a regularized fit leaves on
+/// noise-free data, or the rounding of the normal equations, is not "explained").
+bool SupportedByHeldOutData(const TorqueErrors& without, const TorqueErrors& with, double explained,
+                            double min_explained, double min_gain);
 
 }  // namespace inertial

@@ -8,8 +8,11 @@
 /// validation data, which no fit sees. A candidate's score is the share of the held-out mean-square
 /// error it removes, averaged over joints (explained_error.hpp), so overfitting is not rewarded
 /// (a coefficient fitted to noise does not lower the error on other data) and every joint counts
-/// alike whatever its torque scale. Candidates are ranked by it; those
-/// explaining at least min_explained are suggestions. A model that lacks nothing gets none.
+/// alike whatever its torque scale. Candidates are ranked by it (near-ties to the simpler effect);
+/// those the held-out data support (explained_error.hpp: explaining at least min_explained,
+/// lowering the pooled error, and lowering some joint's error by min_gain of its torque) are
+/// suggestions. A model that lacks nothing gets none; nor does a model whose own fit did not
+/// converge (its candidates would all look good: a note says so).
 ///
 /// Links and payloads: a payload rigidly fixed to a link is the same, to the data, as a change of
 /// that link's inertia, which a fit with free links identifies already. Payload candidates are
@@ -41,6 +44,8 @@ struct JointDiagnosisOptions {
   /// Share of the held-out mean-square error (averaged over joints) a candidate must remove to be
   /// suggested.
   double min_explained = 0.02;
+  /// Smallest fall of some joint's held-out RMS, relative to its measured torque RMS.
+  double min_gain = 0.005;
   /// Joint effect kinds tested on every joint (each only where the model lacks it).
   std::vector<EffectKind> joint_kinds{EffectKind::kViscous, EffectKind::kCoulomb, EffectKind::kOffset,
                                       EffectKind::kArmature, EffectKind::kSpring};

@@ -38,7 +38,8 @@ JointNormalEquations AccumulateNormalEquations(const RobotDynamics& model, const
 std::vector<JointNormalEquations> AccumulateJointwiseNormalEquations(const RobotDynamics& model,
                                                                      const JointSamples& data);
 
-/// ||A w - tau||^2 from the statistics: w^T A^T A w - 2 w^T A^T tau + tau^T tau (floored at 0).
+/// ||A w - tau||^2 from the statistics: w^T A^T A w - 2 w^T A^T tau + tau^T tau (negative rounding
+/// floored at 0; NaN if w or the statistics are not finite).
 double SquaredError(const JointNormalEquations& eq, const Eigen::VectorXd& w);
 
 struct JointIdentificationOptions {

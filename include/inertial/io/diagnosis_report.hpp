@@ -32,6 +32,7 @@ struct JointDiagnosisContext {
   const JointSamples* validation = nullptr;
   std::string validation_source;  ///< e.g. "test.csv" or "the last 30 % of train.csv"
   double min_explained = 0.02;
+  double min_gain = 0.005;         ///< JointDiagnosisOptions::min_gain
   Eigen::MatrixXd predicted;       ///< the fitted model's torques on the held-out samples
   ResidualAnalysis residuals;      ///< of those predictions
 };
@@ -60,6 +61,7 @@ struct BodyDiagnosisContext {
   InertialParams prior;
   std::string validation_source;
   double min_explained = 0.02;
+  double min_gain = 0.005;  ///< BodyDiagnosisOptions::min_gain
 };
 
 std::string BodyCandidateExplanation(const BodyCandidateResult& candidate);
