@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <lcm/lcm-cpp.hpp>
+#include <cstring>
+#include <fstream>
 #include <thread>
 
 #include "cli_support.hpp"
@@ -213,6 +215,51 @@ TEST(EstimationDaemon, CheckpointRestoresTheState) {
   EstimationDaemon gradient(MakeRobotDynamics(s.robot, {}), other);
   EXPECT_FALSE(gradient.restored_from_checkpoint());
   fs::remove(checkpoint);
+}
+
+// A user's own message type, configured as inertiald's --config would be: the Cheetah-style
+// leg_control_data_lcmt (fixed float arrays of 12 joints, no names, no time, no accelerations). The
+// daemon estimates from it, taking time from reception and accelerations from the causal filter.
+TEST(EstimationDaemon, AcceptsAUsersOwnMessageLayout) {
+  const Stream& s = LegStream();
+  std::ifstream in(testing::Example("../tests/io/data/leg_control_data_lcmt.json"));
+  nlohmann::json config;
+  config["format"] = nlohmann::json::parse(in);
+  config["channel"] = "leg_control_data";
+  config["estimator"] = "gradient";
+  DaemonOptions o = MemqOptions();
+  ApplyDaemonConfig(config, &o);
+  EXPECT_EQ(o.input_channel, "leg_control_data");
+  EXPECT_EQ(o.estimator.kind, EstimatorKind::kGradient);
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  const std::uint64_t fingerprint = LcmFingerprint(o.format.layout);
+  for (int i = 0; i < 300; ++i) {
+    std::vector<std::uint8_t> b;
+    for (int k = 7; k >= 0; --k) b.push_back(static_cast<std::uint8_t>(fingerprint >> (8 * k)));
+    auto put = [&](float f) {
+      std::uint32_t u;
+      std::memcpy(&u, &f, 4);
+      for (int k = 3; k >= 0; --k) b.push_back(static_cast<std::uint8_t>(u >> (8 * k)));
+    };
+    const JointSample& j = s.samples[i];
+    for (const Eigen::VectorXd* v : {&j.q, &j.qd, &j.q, &j.qd, &j.tau}) {  // q, qd, p, v, tau_est
+      for (int k = 0; k < 12; ++k) put(k < 3 ? static_cast<float>((*v)[k]) : 0.0f);
+    }
+    daemon.lcm().publish("leg_control_data", b.data(), static_cast<unsigned>(b.size()));
+    std::this_thread::sleep_for(std::chrono::microseconds(300));  // reception times must increase
+  }
+  WaitFor(daemon, 300);
+  stop = true;
+  runner.join();
+  const DaemonCounters c = daemon.counters();
+  EXPECT_EQ(c.received, 300u);
+  EXPECT_EQ(c.rejected.count("priming") ? c.rejected.at("priming") : 0u, 1u);  // the first primes the filter
+  EXPECT_GE(c.accepted, 290u) << daemon.CountersText();
+  EXPECT_EQ(c.rejected.count("decode"), 0u);
+  // The estimate moved from the prior: the first joint's fitted model changed.
+  EXPECT_GT(daemon.estimator().estimator().parameters().cwiseAbs().maxCoeff(), 0.0);
 }
 
 }  // namespace
