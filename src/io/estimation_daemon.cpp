@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
@@ -12,8 +13,10 @@
 #include "inertial/estimate_t.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "inertial/io/body_message.hpp"
 #include "inertial/io/bounded_queue.hpp"
 #include "inertial/io/estimator_state_file.hpp"
+#include "inertial/model/rigid_body_regressor.hpp"
 #include "inertial/residual_t.hpp"
 
 namespace inertial {
@@ -96,20 +99,26 @@ std::uint64_t DaemonCounters::total_rejected() const {
   return n;
 }
 
+struct EstimationDaemon::Sample {
+  JointSample joint;
+  BodySample body;
+};
+
 struct EstimationDaemon::Impl {
-  Impl(const DaemonOptions& o, JointMessageDecoder d, const JointSample& prototype)
+  Impl(const DaemonOptions& o, std::optional<JointMessageDecoder> d, const Sample& prototype)
       : lcm(o.lcm_url), decoder(std::move(d)), queue(o.queue_capacity, prototype), scratch(prototype) {}
   lcm::LCM lcm;  // received on by the receiver thread, published on by the estimator thread
-  JointMessageDecoder decoder;
-  BoundedQueue<JointSample> queue;
-  JointSample scratch;  // decoded by the receiver thread only
+  std::optional<JointMessageDecoder> decoder;  // robot mode; single-body messages need no state
+  BoundedQueue<Sample> queue;
+  Sample scratch;  // decoded by the receiver thread only
   EstimationDaemon* owner = nullptr;
   std::uint64_t rejections_logged = 0;
 
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     std::string why;
     const MessageRejection r =
-        decoder.Decode(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch, &why);
+        decoder ? decoder->Decode(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch.joint, &why)
+                : DecodeBodyWrench(rbuf->data, rbuf->data_size, &scratch.body, &why);
     bool dropped = false;
     if (r == MessageRejection::kNone) dropped = !queue.TryPush(scratch);
     {
@@ -128,23 +137,42 @@ struct EstimationDaemon::Impl {
   }
 };
 
-EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) : options_(std::move(options)) {
-  if (!(options_.publish_rate_hz > 0) || !(options_.residual_window_s > 0) || !(options_.checkpoint_interval_s > 0) ||
-      options_.queue_capacity == 0) {
+namespace {
+
+void CheckOptions(const DaemonOptions& o) {
+  if (!(o.publish_rate_hz > 0) || !(o.residual_window_s > 0) || !(o.checkpoint_interval_s > 0) || o.queue_capacity == 0) {
     throw std::invalid_argument("inertiald: rates, window, interval and queue capacity must be positive");
   }
+}
+
+}  // namespace
+
+EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) : options_(std::move(options)) {
+  CheckOptions(options_);
   const int n = model.num_dofs(), P = model.num_parameters();
   JointMessageDecoder decoder(options_.format, model.dof_names());
   estimator_ = std::make_unique<OnlineJointEstimator>(std::move(model), Eigen::VectorXd::Zero(P), options_.estimator);
-  JointSample prototype;
-  prototype.q = prototype.qd = prototype.qdd = prototype.tau = Eigen::VectorXd::Zero(n);
+  Sample prototype;
+  prototype.joint.q = prototype.joint.qd = prototype.joint.qdd = prototype.joint.tau = Eigen::VectorXd::Zero(n);
   impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype);
+  Start(n);
+}
+
+EstimationDaemon::EstimationDaemon(const InertialParams& prior, DaemonOptions options) : options_(std::move(options)) {
+  CheckOptions(options_);
+  body_ = std::make_unique<OnlineBodyEstimator>(prior, options_.estimator);
+  impl_ = std::make_unique<Impl>(options_, std::nullopt, Sample{});
+  Start(6);
+}
+
+void EstimationDaemon::Start(int num_channels) {
   impl_->owner = this;
   if (!impl_->lcm.good()) {
     throw std::runtime_error("LCM could not start on '" + (options_.lcm_url.empty() ? "the default URL" : options_.lcm_url) +
                              "'");
   }
-  window_sum_ = window_rms_ = Eigen::VectorXd::Zero(n);
+  window_sum_ = window_rms_ = Eigen::VectorXd::Zero(num_channels);
+  RecursiveEstimator& est = body_ ? body_->estimator() : estimator_->estimator();
   if (!options_.checkpoint_path.empty() && std::filesystem::exists(options_.checkpoint_path)) {
     try {
       std::string description;
@@ -153,7 +181,7 @@ EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) :
       if (description != Description()) {
         Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " is of another model or estimator (" +
                                  description + "); starting from the priors");
-      } else if (!estimator_->estimator().Restore(state, &why)) {
+      } else if (!est.Restore(state, &why)) {
         Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " not restored: " + why);
       } else {
         restored_ = true;
@@ -170,9 +198,16 @@ EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) :
 
 EstimationDaemon::~EstimationDaemon() = default;
 
+const RecursiveEstimator& EstimationDaemon::recursive_estimator() const {
+  return body_ ? body_->estimator() : estimator_->estimator();
+}
+
 lcm::LCM& EstimationDaemon::lcm() { return impl_->lcm; }
 
 std::string EstimationDaemon::Description() const {
+  if (body_) {
+    return std::string(body_->estimator().kind()) + " estimator; single body";
+  }
   std::string d = std::string(ToString(estimator_->kind())) + " estimator; joints";
   for (const std::string& j : estimator_->model().dof_names()) d += " " + j;
   d += "; parameters";
@@ -191,8 +226,7 @@ void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
   }
 }
 
-void EstimationDaemon::Process(const JointSample& sample) {
-  const UpdateStatus status = estimator_->Update(sample);
+void EstimationDaemon::Account(UpdateStatus status, double t, const Eigen::VectorXd& residual) {
   {
     std::lock_guard<std::mutex> lock(counters_mutex_);
     if (status == UpdateStatus::kAccepted) {
@@ -201,27 +235,42 @@ void EstimationDaemon::Process(const JointSample& sample) {
       ++counters_.rejected[name];
     }
   }
-  if (status == UpdateStatus::kAccepted) {
-    if (window_start_ < 0 || sample.t >= window_start_ + options_.residual_window_s) {
-      if (window_count_ > 0) {
-        window_rms_ = (window_sum_ / window_count_).cwiseSqrt();
-        window_completed_ = true;
-      }
-      window_sum_.setZero();
-      window_count_ = 0;
-      window_start_ = sample.t;
+  if (status != UpdateStatus::kAccepted) return;
+  if (window_start_ < 0 || t >= window_start_ + options_.residual_window_s) {
+    if (window_count_ > 0) {
+      window_rms_ = (window_sum_ / window_count_).cwiseSqrt();
+      window_completed_ = true;
     }
-    window_sum_ += estimator_->residual().cwiseAbs2();
-    ++window_count_;
-    last_t_ = sample.t;
+    window_sum_.setZero();
+    window_count_ = 0;
+    window_start_ = t;
   }
+  window_sum_ += residual.cwiseAbs2();
+  ++window_count_;
+  last_t_ = t;
+}
+
+void EstimationDaemon::Process(const Sample& sample) {
+  if (body_) {
+    // The residual of the estimate before this sample (samples with an acceleration only; pairs
+    // by the midpoint rule have none of their own).
+    const BodySample& b = sample.body;
+    Vector6 residual = Vector6::Zero();
+    if (b.has_acceleration) residual = b.wrench - RigidBodyRegressor(b.twist, b.acceleration, b.gravity) * body_->Body().vector();
+    const UpdateStatus status = body_->Update(b);
+    if (status != UpdateStatus::kBuffered) Account(status, b.t, residual);
+    return;
+  }
+  const JointSample& j = sample.joint;
+  const UpdateStatus status = estimator_->Update(j);
+  Account(status, j.t, estimator_->residual());
   if (!options_.residual_channel.empty()) {
     inertial::residual_t m;
-    m.utime = static_cast<std::int64_t>(std::llround(sample.t * 1e6));
+    m.utime = static_cast<std::int64_t>(std::llround(j.t * 1e6));
     m.status = std::string(ToString(status));
-    m.num_channels = static_cast<std::int32_t>(sample.tau.size());
+    m.num_channels = static_cast<std::int32_t>(j.tau.size());
     m.channel_names = estimator_->model().dof_names();
-    m.measured.assign(sample.tau.data(), sample.tau.data() + sample.tau.size());
+    m.measured.assign(j.tau.data(), j.tau.data() + j.tau.size());
     const Eigen::VectorXd& p = estimator_->predicted();
     m.predicted.assign(p.data(), p.data() + p.size());
     m.residual.resize(m.measured.size());
@@ -235,7 +284,8 @@ void EstimationDaemon::Publish(std::int64_t utime) {
   const Eigen::VectorXd rms =
       !window_completed_ && window_count_ > 0 ? Eigen::VectorXd((window_sum_ / window_count_).cwiseSqrt()) : window_rms_;
   const std::vector<std::uint8_t> bytes =
-      EncodeEstimate(*estimator_, utime, rms, options_.residual_window_s, counters());
+      body_ ? EncodeBodyEstimate(*body_, "body", utime, rms, options_.residual_window_s, counters())
+            : EncodeEstimate(*estimator_, utime, rms, options_.residual_window_s, counters());
   impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size()));
   std::lock_guard<std::mutex> lock(counters_mutex_);
   ++counters_.published;
@@ -244,7 +294,7 @@ void EstimationDaemon::Publish(std::int64_t utime) {
 void EstimationDaemon::Checkpoint() {
   if (options_.checkpoint_path.empty()) return;
   try {
-    SaveEstimatorState(options_.checkpoint_path, estimator_->estimator().State(), Description());
+    SaveEstimatorState(options_.checkpoint_path, recursive_estimator().State(), Description());
     std::lock_guard<std::mutex> lock(counters_mutex_);
     ++counters_.checkpoints;
   } catch (const std::exception& e) {
@@ -264,9 +314,9 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   });
   Log(LogLevel::kInfo, "listening on " + options_.input_channel + ", publishing " + options_.estimate_channel + " at " +
                            std::to_string(options_.publish_rate_hz) + " Hz (" +
-                           std::to_string(estimator_->model().num_parameters()) + " parameters, " +
-                           std::string(ToString(estimator_->kind())) + ")");
-  JointSample sample = impl_->scratch;
+                           std::to_string(recursive_estimator().num_parameters()) + " parameters, " +
+                           std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
+  Sample sample = impl_->scratch;
   double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
   double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
   auto utime = [&] { return static_cast<std::int64_t>(std::llround(last_t_ * 1e6)); };
@@ -318,6 +368,82 @@ std::string EstimationDaemon::CountersText() const {
   return out.str();
 }
 
+namespace {
+
+// One body's part of estimate_t.
+inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialParams& body, const Vector10* theta,
+                                       const Matrix10* covariance_of_pi) {
+  inertial::body_estimate_t b;
+  b.name = name;
+  const Vector10 pi = body.vector();
+  for (int i = 0; i < 10; ++i) {
+    b.pi[i] = pi[i];
+    b.theta[i] = theta != nullptr ? (*theta)[i] : 0.0;
+  }
+  b.mass = body.mass();
+  const Vector3 com = body.mass() > 0 ? body.com() : Vector3::Zero();
+  for (int i = 0; i < 3; ++i) b.com[i] = com[i];
+  b.mass_std = 0;
+  for (int i = 0; i < 3; ++i) b.com_std[i] = 0;
+  for (int i = 0; i < 6; ++i) b.inertia_std[i] = 0;
+  if (covariance_of_pi != nullptr && body.mass() > 0) {
+    const BodyUncertainty u = UncertaintyOf(body, *covariance_of_pi);
+    b.mass_std = u.mass;
+    for (int i = 0; i < 3; ++i) b.com_std[i] = u.com[i];
+    for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia[i];
+  }
+  const ConsistencyReport c = CheckConsistency(body);
+  b.min_triangle_margin = c.min_triangle_margin;
+  b.min_pseudo_inertia_eigenvalue = c.min_pseudo_inertia_eigenvalue;
+  b.physically_consistent = c.fully_consistent();
+  return b;
+}
+
+void SetCounters(const DaemonCounters& counters, inertial::estimate_t* m) {
+  m->received = static_cast<std::int64_t>(counters.received);
+  m->accepted = static_cast<std::int64_t>(counters.accepted);
+  m->rejected = static_cast<std::int64_t>(counters.total_rejected());
+  m->dropped = static_cast<std::int64_t>(counters.dropped);
+  for (const auto& [reason, count] : counters.rejected) {
+    m->reject_reasons.push_back(reason);
+    m->reject_counts.push_back(static_cast<std::int64_t>(count));
+  }
+  m->num_reasons = static_cast<std::int32_t>(m->reject_reasons.size());
+}
+
+std::vector<std::uint8_t> Encode(const inertial::estimate_t& m) {
+  std::vector<std::uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
+  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, const std::string& name, std::int64_t utime,
+                                             const Eigen::VectorXd& residual_rms, double residual_window,
+                                             const DaemonCounters& counters) {
+  inertial::estimate_t m;
+  m.utime = utime;
+  m.estimator = std::string(est.estimator().kind());
+  const Eigen::VectorXd& x = est.estimator().parameters();
+  const Eigen::MatrixXd P = est.estimator().Covariance();
+  const bool per_body = m.estimator != "linear_rls";
+  const Vector10 theta = per_body ? Vector10(x.head<10>()) : Vector10::Zero();
+  Matrix10 cov;
+  if (per_body && P.rows() == x.size()) cov = est.layout().BodyCovariance(0, x, P);
+  m.bodies.push_back(BodyEstimate(name, est.Body(), per_body ? &theta : nullptr,
+                                  per_body && P.rows() == x.size() ? &cov : nullptr));
+  m.num_bodies = 1;
+  m.num_effects = 0;
+  m.channel_names = {"mx", "my", "mz", "fx", "fy", "fz"};
+  m.num_channels = 6;
+  m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
+  m.residual_rms.resize(6, 0.0);
+  m.residual_window = residual_window;
+  SetCounters(counters, &m);
+  return Encode(m);
+}
+
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::int64_t utime,
                                          const Eigen::VectorXd& residual_rms, double residual_window,
                                          const DaemonCounters& counters) {
@@ -330,31 +456,12 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
   const bool per_body = est.kind() != EstimatorKind::kLinearRls;
   const ParameterLayout layout = ParameterLayout::FromRobot(model);
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    inertial::body_estimate_t b;
-    b.name = model.bodies()[e].name;
     const InertialParams body = est.Body(e);
-    const Vector10 pi = body.vector();
-    for (int i = 0; i < 10; ++i) {
-      b.pi[i] = pi[i];
-      b.theta[i] = per_body ? x[10 * e + i] : 0.0;
-    }
-    b.mass = body.mass();
-    const Vector3 com = body.mass() > 0 ? body.com() : Vector3::Zero();
-    for (int i = 0; i < 3; ++i) b.com[i] = com[i];
-    b.mass_std = 0;
-    for (int i = 0; i < 3; ++i) b.com_std[i] = 0;
-    for (int i = 0; i < 6; ++i) b.inertia_std[i] = 0;
-    if (per_body && P.rows() == x.size() && body.mass() > 0) {
-      const BodyUncertainty u = UncertaintyOf(body, layout.BodyCovariance(e, x, P));
-      b.mass_std = u.mass;
-      for (int i = 0; i < 3; ++i) b.com_std[i] = u.com[i];
-      for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia[i];
-    }
-    const ConsistencyReport c = CheckConsistency(body);
-    b.min_triangle_margin = c.min_triangle_margin;
-    b.min_pseudo_inertia_eigenvalue = c.min_pseudo_inertia_eigenvalue;
-    b.physically_consistent = c.fully_consistent();
-    m.bodies.push_back(b);
+    const Vector10 theta = per_body ? Vector10(x.segment<10>(10 * e)) : Vector10::Zero();
+    Matrix10 cov;
+    const bool with_cov = per_body && P.rows() == x.size() && body.mass() > 0;
+    if (with_cov) cov = layout.BodyCovariance(e, x, P);
+    m.bodies.push_back(BodyEstimate(model.bodies()[e].name, body, per_body ? &theta : nullptr, with_cov ? &cov : nullptr));
   }
   m.num_bodies = static_cast<std::int32_t>(m.bodies.size());
   const std::vector<std::string> names = model.FeatureNames();
@@ -369,18 +476,8 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
   m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
   m.residual_rms.resize(m.channel_names.size(), 0.0);
   m.residual_window = residual_window;
-  m.received = static_cast<std::int64_t>(counters.received);
-  m.accepted = static_cast<std::int64_t>(counters.accepted);
-  m.rejected = static_cast<std::int64_t>(counters.total_rejected());
-  m.dropped = static_cast<std::int64_t>(counters.dropped);
-  for (const auto& [reason, count] : counters.rejected) {
-    m.reject_reasons.push_back(reason);
-    m.reject_counts.push_back(static_cast<std::int64_t>(count));
-  }
-  m.num_reasons = static_cast<std::int32_t>(m.reject_reasons.size());
-  std::vector<std::uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
-  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
+  SetCounters(counters, &m);
+  return Encode(m);
 }
 
 }  // namespace inertial

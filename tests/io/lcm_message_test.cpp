@@ -10,6 +10,7 @@
 
 #include "cli_support.hpp"
 #include "inertial/estimate_t.hpp"
+#include "inertial/io/body_message.hpp"
 #include "inertial/io/joint_message.hpp"
 #include "inertial/joint_state_t.hpp"
 #include "inertial/residual_t.hpp"
@@ -62,12 +63,7 @@ TEST(LcmLayout, FingerprintsAreLcmGens) {
                             F("residual", LcmType::kDouble, -1, "num_channels")}};
   EXPECT_EQ(LcmFingerprint(residual), static_cast<std::uint64_t>(inertial::residual_t::getHash()));
   // Fixed-length arrays and booleans.
-  const LcmLayout wrench{"body_wrench_t",
-                         {F("utime", LcmType::kInt64), F("frame", LcmType::kString), F("has_twist", LcmType::kBoolean),
-                          F("twist", LcmType::kDouble, 6), F("has_acceleration", LcmType::kBoolean),
-                          F("acceleration", LcmType::kDouble, 6), F("wrench", LcmType::kDouble, 6),
-                          F("gravity", LcmType::kDouble, 3)}};
-  EXPECT_EQ(LcmFingerprint(wrench), static_cast<std::uint64_t>(inertial::body_wrench_t::getHash()));
+  EXPECT_EQ(LcmFingerprint(BodyWrenchLayout()), static_cast<std::uint64_t>(inertial::body_wrench_t::getHash()));
   // A foreign type from its JSON description, against lcm-gen run on its .lcm file.
   std::ifstream in(SourceDir() + "/tests/io/data/leg_control_data_lcmt.json");
   const JointMessageFormat format = ParseJointMessageFormat(nlohmann::json::parse(in));
@@ -240,6 +236,40 @@ TEST(JointMessage, SurvivesRandomCorruption) {
   }
   EXPECT_GT(refused, 50000);
   EXPECT_GT(accepted, 10);  // edits inside the numbers leave a valid message
+}
+
+// Body wrench messages: the generated encoder's bytes decode to the same sample; no twist, NaN and
+// truncation are refused.
+TEST(BodyMessage, RoundTripAndRefusals) {
+  BodySample b;
+  b.t = 3.25;
+  for (int i = 0; i < 6; ++i) {
+    b.twist[i] = 0.1 * i - 0.2;
+    b.acceleration[i] = 1.0 - 0.3 * i;
+    b.wrench[i] = 2.0 * i;
+  }
+  b.has_acceleration = true;
+  b.gravity = Vector3(0, 0, -9.81);
+  const std::vector<std::uint8_t> bytes = EncodeBodyWrench(b, "payload");
+  BodySample out;
+  std::string why;
+  ASSERT_EQ(DecodeBodyWrench(bytes.data(), bytes.size(), &out, &why), MessageRejection::kNone) << why;
+  EXPECT_EQ(out.t, 3.25);
+  EXPECT_EQ(out.twist, b.twist);
+  EXPECT_EQ(out.acceleration, b.acceleration);
+  EXPECT_EQ(out.wrench, b.wrench);
+  EXPECT_EQ(out.gravity, b.gravity);
+  EXPECT_TRUE(out.has_acceleration);
+  inertial::body_wrench_t m;
+  ASSERT_EQ(m.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  m.has_twist = false;
+  std::vector<std::uint8_t> no_twist(static_cast<size_t>(m.getEncodedSize()));
+  m.encode(no_twist.data(), 0, static_cast<int>(no_twist.size()));
+  EXPECT_EQ(DecodeBodyWrench(no_twist.data(), no_twist.size(), &out, &why), MessageRejection::kWrongSize);
+  b.wrench[4] = std::nan("");
+  const std::vector<std::uint8_t> nan = EncodeBodyWrench(b, "payload");
+  EXPECT_EQ(DecodeBodyWrench(nan.data(), nan.size(), &out, &why), MessageRejection::kNonFinite);
+  EXPECT_EQ(DecodeBodyWrench(bytes.data(), bytes.size() - 1, &out, &why), MessageRejection::kDecode);
 }
 
 TEST(LcmLayout, RejectsBadLayouts) {

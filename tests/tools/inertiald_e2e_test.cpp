@@ -154,5 +154,38 @@ sleep 0.5; kill -INT $LOGGER; wait $LOGGER
   fs::remove_all(dir);
 }
 
+// Bad command lines and configs: a clear error and the right exit code, before any LCM traffic.
+TEST(InertialdCli, RefusesBadInput) {
+  const char* daemon = std::getenv("INERTIALD");
+  ASSERT_NE(daemon, nullptr);
+  const fs::path config = testing::UniqueTempPath("config.json"), bad_json = testing::UniqueTempPath("bad.json");
+  std::ofstream(config) << R"({"channel": "X", "publish_rate": 5})";
+  std::ofstream(bad_json) << "{ not json";
+  const std::string leg = testing::Example("leg3.urdf");
+  struct Bad {
+    std::vector<std::string> args;
+    int exit_code;
+    std::string message;
+  };
+  for (const Bad& b : std::vector<Bad>{
+           {{}, 2, "neither"},
+           {{"--model", leg, "--body"}, 2, "both"},
+           {{"--model", "/nonexistent.urdf", "--lcm-url", "memq://"}, 5, "/nonexistent.urdf"},
+           {{"--model", leg, "--config", "/nonexistent.json"}, 5, "/nonexistent.json"},
+           {{"--model", leg, "--config", bad_json.string()}, 5, "not valid JSON"},
+           {{"--model", leg, "--config", config.string()}, 2, "unknown key \"publish_rate\""},
+           {{"--model", leg, "--estimator", "kalman"}, 2, "kalman"},
+           {{"--model", leg, "--publish-rate", "-3"}, 2, "--publish-rate"},
+           {{"--model", leg, "--effects", "coulomb@ankle", "--lcm-url", "memq://"}, 2, "ankle"},
+           {{"--body", "--prior", "1 2 3", "--lcm-url", "memq://"}, 2, "10 expected"},
+       }) {
+    const testing::CliRun r = testing::RunProgram(daemon, b.args);
+    EXPECT_EQ(r.exit_code, b.exit_code) << Describe(r);
+    EXPECT_TRUE(testing::Contains(r.err, b.message)) << Describe(r);
+  }
+  fs::remove(config);
+  fs::remove(bad_json);
+}
+
 }  // namespace
 }  // namespace inertial

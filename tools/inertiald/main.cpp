@@ -27,7 +27,12 @@ int main(int argc, char** argv) {
       "5 I/O error (model, config)."};
   std::string model_path, effects, config_path, lcm_url, channel, estimate_channel, residual_channel, checkpoint;
   std::string estimator = "", log_level = "", publish_rate = "", checkpoint_interval = "", sigma = "";
-  app.add_option("--model", model_path, "URDF robot description")->required();
+  bool body = false;
+  std::string prior;
+  app.add_option("--model", model_path, "URDF robot description (robots)");
+  app.add_flag("--body", body,
+               "a single body on a wrench sensor: inertial.body_wrench_t messages (default channel INERTIAL_BODY_WRENCH)");
+  app.add_option("--prior", prior, "--body: the prior body's pi, 10 numbers (default 1 kg, 1 kg m^2 at the origin)");
   app.add_option("--effects", effects, "effects beyond rigid links (syntax of `inertial identify --effects`)");
   app.add_option("--config", config_path, "JSON configuration (channels, rates, checkpoint, message format)");
   app.add_option("--lcm-url", lcm_url, "LCM provider URL (default LCM's: udpm://239.255.76.67:7667)");
@@ -46,7 +51,12 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
 
+  if (body == !model_path.empty()) {
+    std::cerr << "Error: give --model URDF (a robot) or --body (a single body), not " << (body ? "both" : "neither") << "\n";
+    return 2;
+  }
   DaemonOptions options;
+  if (body) options.input_channel = "INERTIAL_BODY_WRENCH";
   try {
     if (!config_path.empty()) {
       std::ifstream in(config_path);
@@ -85,8 +95,19 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<EstimationDaemon> daemon;
   try {
-    const RobotModel robot = LoadUrdf(model_path);
-    daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options);
+    if (body) {
+      Vector10 pi;
+      pi << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0;
+      if (!prior.empty()) {
+        const std::vector<double> v = ParseNumberList(prior, "--prior");
+        if (v.size() != 10) throw std::invalid_argument("--prior: " + std::to_string(v.size()) + " numbers, 10 expected");
+        pi = Eigen::Map<const Vector10>(v.data());
+      }
+      daemon = std::make_unique<EstimationDaemon>(InertialParams::FromVector(pi), options);
+    } else {
+      const RobotModel robot = LoadUrdf(model_path);
+      daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options);
+    }
   } catch (const UrdfError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return 5;

@@ -1,6 +1,7 @@
 /// @file estimation_daemon.hpp
-/// inertiald as a library: joint-state messages from an LCM channel, the recursive estimator of
-/// online_joint_estimator.hpp on every sample, estimates (inertial.estimate_t) published at a fixed
+/// inertiald as a library: joint-state messages from an LCM channel (or, for a single body on a
+/// wrench sensor, inertial.body_wrench_t messages), the recursive estimator of
+/// online_joint_estimator.hpp (online_body_estimator.hpp) on every sample, estimates (inertial.estimate_t) published at a fixed
 /// rate, checkpoints of the estimator state, counters of everything.
 ///
 /// Threads: an LCM receiver decodes each message (joint_message.hpp: nothing trusted) and pushes the
@@ -19,6 +20,7 @@
 #include <mutex>
 #include <string>
 
+#include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/io/joint_message.hpp"
 
@@ -65,8 +67,11 @@ struct DaemonCounters {
 
 class EstimationDaemon {
  public:
-  /// @throws std::invalid_argument on bad options, std::runtime_error if LCM cannot start.
+  /// A robot from joint states. @throws std::invalid_argument on bad options, std::runtime_error if
+  /// LCM cannot start.
   EstimationDaemon(RobotDynamics model, DaemonOptions options);
+  /// One body from inertial.body_wrench_t messages (options.format unused), starting at `prior`.
+  EstimationDaemon(const InertialParams& prior, DaemonOptions options);
   ~EstimationDaemon();
 
   /// Runs until `stop` is true; returns 0, or 1 if LCM failed while running.
@@ -75,7 +80,12 @@ class EstimationDaemon {
   DaemonCounters counters() const;
   /// A one-paragraph summary of the counters (printed on exit).
   std::string CountersText() const;
+  /// The robot's estimator (robot mode only).
   const OnlineJointEstimator& estimator() const { return *estimator_; }
+  /// The body's estimator (single-body mode only), or null.
+  const OnlineBodyEstimator* body_estimator() const { return body_.get(); }
+  /// Either mode's recursive estimator.
+  const RecursiveEstimator& recursive_estimator() const;
   /// The daemon's LCM instance (LCM publishes from any thread): with memq:// the only way in.
   lcm::LCM& lcm();
   bool restored_from_checkpoint() const { return restored_; }
@@ -84,14 +94,18 @@ class EstimationDaemon {
 
  private:
   struct Impl;
+  struct Sample;  // what the queue holds: a joint sample or a body sample
+  void Start(int num_channels);
   void Log(LogLevel level, const std::string& text) const;
-  void Process(const JointSample& sample);
+  void Process(const Sample& sample);
+  void Account(UpdateStatus status, double t, const Eigen::VectorXd& residual);
   void Publish(std::int64_t utime);
   void Checkpoint();
   std::string Description() const;
 
   DaemonOptions options_;
   std::unique_ptr<OnlineJointEstimator> estimator_;
+  std::unique_ptr<OnlineBodyEstimator> body_;
   std::unique_ptr<Impl> impl_;
   mutable std::mutex counters_mutex_;
   DaemonCounters counters_;
@@ -103,6 +117,11 @@ class EstimationDaemon {
   int window_count_ = 0;
   bool window_completed_ = false;
 };
+
+/// The estimate message of the single-body estimator (one body `name`; channels mx .. fz).
+std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimator, const std::string& name,
+                                             std::int64_t utime, const Eigen::VectorXd& residual_rms,
+                                             double residual_window, const DaemonCounters& counters);
 
 /// The estimate message of an online estimator (bodies, effects, residual RMS, counters).
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& estimator, std::int64_t utime,
