@@ -102,4 +102,12 @@ InertialParams OnlineJointEstimator::Body(int e) const {
   return model_.BodyInertia(e, estimator_->parameters());
 }
 
+void CopySample(const JointSamples& log, int i, JointSample* out) {
+  out->t = log.t[i];
+  out->q = log.q.row(i).transpose();
+  out->qd = log.qd.row(i).transpose();
+  out->qdd = log.qdd.row(i).transpose();
+  out->tau = log.tau.row(i).transpose();
+}
+
 }  // namespace inertial

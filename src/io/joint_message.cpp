@@ -223,11 +223,7 @@ void WriteJointStateLog(const std::string& path, const std::string& channel, con
   if (!log.good()) throw std::runtime_error("cannot write the LCM log '" + path + "'");
   JointSample s;
   for (int i = 0; i < samples.size(); ++i) {
-    s.t = samples.t[i];
-    s.q = samples.q.row(i).transpose();
-    s.qd = samples.qd.row(i).transpose();
-    s.qdd = samples.qdd.row(i).transpose();
-    s.tau = samples.tau.row(i).transpose();
+    CopySample(samples, i, &s);
     std::vector<std::uint8_t> bytes = EncodeJointState(samples.joint_names, s, with_qdd);
     lcm::LogEvent ev;
     ev.eventnum = i;

@@ -121,11 +121,7 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
     const JointSamples log = ReadJointCsv(path, model.dof_names());
     JointSample s;
     for (int i = 0; i < log.size(); ++i) {
-      s.t = log.t[i];
-      s.q = log.q.row(i).transpose();
-      s.qd = log.qd.row(i).transpose();
-      s.qdd = log.qdd.row(i).transpose();
-      s.tau = log.tau.row(i).transpose();
+      CopySample(log, i, &s);
       ++result.events;
       ++result.counters.received;
       ++samples;

@@ -38,11 +38,7 @@ const Stream& LegStream() {
     const JointSamples log = testing::SimulateLogs(model, x, 0.3, 10.0, 9, 200).train;
     for (int i = 0; i < log.size(); ++i) {
       JointSample j;
-      j.t = log.t[i];
-      j.q = log.q.row(i).transpose();
-      j.qd = log.qd.row(i).transpose();
-      j.qdd = log.qdd.row(i).transpose();
-      j.tau = log.tau.row(i).transpose();
+      CopySample(log, i, &j);
       out.samples.push_back(j);
     }
     return out;

@@ -44,11 +44,7 @@ Eigen::VectorXd Direct(const RobotDynamics& model, const JointSamples& log) {
   OnlineJointEstimator e(model, Eigen::VectorXd::Zero(model.num_parameters()), Options());
   JointSample s;
   for (int i = 0; i < log.size(); ++i) {
-    s.t = log.t[i];
-    s.q = log.q.row(i).transpose();
-    s.qd = log.qd.row(i).transpose();
-    s.qdd = log.qdd.row(i).transpose();
-    s.tau = log.tau.row(i).transpose();
+    CopySample(log, i, &s);
     e.Update(s);
   }
   return e.estimator().parameters();

@@ -11,6 +11,7 @@
 #include "inertial/estimation/gradient_estimator.hpp"
 #include "inertial/estimation/linear_rls.hpp"
 #include "inertial/estimation/recursive_gauss_newton.hpp"
+#include "inertial/model/joint_samples.hpp"
 #include "inertial/model/robot_dynamics.hpp"
 
 namespace inertial {
@@ -26,6 +27,10 @@ struct JointSample {
   double t = 0.0;
   Eigen::VectorXd q, qd, qdd, tau;
 };
+
+/// Sample i of a joint log (joint_samples.hpp) as a JointSample; reuses *out's memory when sizes
+/// match. Precondition: 0 <= i < log.size().
+void CopySample(const JointSamples& log, int i, JointSample* out);
 
 struct OnlineEstimatorOptions {
   EstimatorKind kind = EstimatorKind::kGaussNewton;
