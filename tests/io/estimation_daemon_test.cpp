@@ -111,7 +111,15 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
       const std::vector<std::uint8_t> o = EncodeJointState(s.robot.dof_names, old);
       daemon.lcm().publish("INERTIAL_JOINT_STATE", o.data(), static_cast<unsigned>(o.size()));
       bad["out_of_order"] += 1;
-      sent += 5;
+      JointSample two = s.samples[i];  // a message without the knee
+      two.q.conservativeResize(2);
+      two.qd.conservativeResize(2);
+      two.qdd.conservativeResize(2);
+      two.tau.conservativeResize(2);
+      const std::vector<std::uint8_t> w = EncodeJointState({"abad", "hip"}, two);
+      daemon.lcm().publish("INERTIAL_JOINT_STATE", w.data(), static_cast<unsigned>(w.size()));
+      bad["wrong_size"] += 1;
+      sent += 6;
     }
     if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
