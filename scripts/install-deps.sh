@@ -17,6 +17,8 @@ packages=(
   liborocos-kdl-dev         # Orocos KDL: independent inverse dynamics, tests only
   liblcm-dev liblcm-bin     # LCM: messages, inertiald, log replay; lcm-gen, lcm-logger
   iproute2                  # ip: the multicast end-to-end test sets up its own network namespace
+  libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers
+  can-utils                 # log2asc, log2long: cross-checks of the candump parser, tests only
 )
 
 missing=()

@@ -86,7 +86,9 @@ const char* ToString(MessageRejection r) {
 }
 
 JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<std::string> dof_names)
-    : format_(std::move(format)), dofs_(std::move(dof_names)) {
+    : format_(std::move(format)),
+      dofs_(std::move(dof_names)),
+      acceleration_(static_cast<int>(dofs_.size()), format_.accel_cutoff_hz) {
   CheckLcmLayout(format_.layout);
   for (const std::string* name : {&format_.q, &format_.qd, &format_.tau}) {
     if (name->empty() || !HasField(format_.layout, *name, false)) {
@@ -110,8 +112,6 @@ JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<
       }
     }
   }
-  last_qd_ = Eigen::VectorXd::Zero(num_dofs());
-  qdd_filtered_ = Eigen::VectorXd::Zero(num_dofs());
 }
 
 MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size, std::int64_t recv_utime,
@@ -181,21 +181,11 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
     if (why) *why = "time " + std::to_string(s->t) + " s does not follow " + std::to_string(last_t_) + " s";
     return MessageRejection::kOutOfOrder;
   }
-  if (!has_qdd) {
-    // Causal acceleration: difference of qd, first-order low-pass.
-    if (!primed_) {
-      primed_ = true;
-      last_t_ = s->t;
-      last_qd_ = s->qd;
-      qdd_filtered_.setZero();
-      if (why) *why = "the first sample primes the acceleration filter";
-      return MessageRejection::kPriming;
-    }
-    const double dt = s->t - last_t_;
-    const double alpha = dt / (dt + 1.0 / (2.0 * M_PI * format_.accel_cutoff_hz));
-    qdd_filtered_ += alpha * ((s->qd - last_qd_) / dt - qdd_filtered_);
-    s->qdd = qdd_filtered_;
-    last_qd_ = s->qd;
+  if (!has_qdd && !acceleration_.Update(s->t, s->qd, &s->qdd)) {
+    primed_ = true;
+    last_t_ = s->t;
+    if (why) *why = "the first sample primes the acceleration filter";
+    return MessageRejection::kPriming;
   }
   primed_ = true;
   last_t_ = s->t;

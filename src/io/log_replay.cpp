@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <stdexcept>
@@ -117,7 +118,32 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
   };
 
   std::uint64_t samples = 0;
-  if (EndsWith(path, ".csv")) {
+  if (options.can) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot open the candump log '" + path + "'");
+    CanJointAssembler assembler(*options.can, model.dof_names());
+    std::string line, iface;
+    CanFrame frame;
+    JointSample s;
+    while (std::getline(in, line)) {
+      ++result.events;
+      try {
+        if (ParseCandumpLine(line, &frame, &iface) == CandumpLine::kNotAFrame) {
+          ++result.lines_not_frames;
+          continue;
+        }
+      } catch (const std::invalid_argument&) {
+        ++result.counters.rejected["bad_line"];
+        continue;
+      }
+      ++result.counters.received;
+      if (assembler.Feed(frame, &s)) {
+        ++samples;
+        feed(s);
+      }
+    }
+    result.can = assembler.counters();
+  } else if (EndsWith(path, ".csv")) {
     const JointSamples log = ReadJointCsv(path, model.dof_names());
     JointSample s;
     for (int i = 0; i < log.size(); ++i) {

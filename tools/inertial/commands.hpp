@@ -64,6 +64,7 @@ struct SimulateCommand {
   std::string start_time = "0";
   std::string write_log;      ///< also write the samples as an LCM log of inertial.joint_state_t
   std::string log_channel = "INERTIAL_JOINT_STATE";
+  std::string write_candump, can_config;  ///< also write motor frames as a candump log
 };
 CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);
@@ -84,7 +85,7 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);
 int RunDiagnoseCommand(const DiagnoseCommand& command);
 
 struct ReplayCommand {
-  std::string model, log, effects, config, channel, out, write_log;
+  std::string model, log, candump, can_config, effects, config, channel, out, write_log;
   std::string estimator = "gauss_newton", sigma = "1", period = "0.1";
   bool realtime = false;
 };

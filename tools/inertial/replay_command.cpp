@@ -18,7 +18,9 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
       "of one channel) or a joint CSV (a .csv file). Writes the estimate trajectory (--out CSV, --write-log LCM) and "
       "prints the throughput.");
   sub->add_option("--model", c->model, "URDF robot description")->required();
-  sub->add_option("--log", c->log, "lcm-logger log, or a joint CSV (.csv)")->required();
+  sub->add_option("--log", c->log, "lcm-logger log, or a joint CSV (.csv)");
+  sub->add_option("--candump", c->candump, "a candump -l log of motor-driver frames (with --can-config)");
+  sub->add_option("--can-config", c->can_config, "motors.yaml: which frames are which joint's, and how to decode them");
   sub->add_option("--effects", c->effects, "effects beyond rigid links (syntax of identify --effects)");
   sub->add_option("--channel", c->channel, "joint-state channel (default INERTIAL_JOINT_STATE, or the config's)");
   sub->add_option("--config", c->config, "inertiald's JSON config (its channel and message format are used)");
@@ -34,6 +36,23 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
 int RunReplayCommand(const ReplayCommand& c) {
   OnlineEstimatorOptions estimator_options;
   ReplayOptions options;
+  if (c.log.empty() == c.candump.empty()) {
+    std::cerr << "Error: give --log FILE or --candump FILE, not " << (c.log.empty() ? "neither" : "both") << "\n";
+    return kUsage;
+  }
+  if (c.candump.empty() != c.can_config.empty()) {
+    std::cerr << "Error: --candump and --can-config go together\n";
+    return kUsage;
+  }
+  if (!c.can_config.empty()) {
+    try {
+      options.can = LoadCanConfig(c.can_config);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --can-config: " << e.what() << "\n";
+      return kUsage;
+    }
+  }
+  const std::string& path = c.candump.empty() ? c.log : c.candump;
   int status = ParseRealOption(c.sigma, "--sigma", 1e-12, 1e12, &estimator_options.measurement_sigma);
   if (status == kOk) status = ParseRealOption(c.period, "--period", 1e-9, 1e9, &options.estimate_period_s);
   if (status != kOk) return status;
@@ -72,7 +91,7 @@ int RunReplayCommand(const ReplayCommand& c) {
   OnlineJointEstimator estimator(*model, Eigen::VectorXd::Zero(model->num_parameters()), estimator_options);
   ReplayResult r;
   try {
-    r = ReplayLog(c.log, &estimator, options);
+    r = ReplayLog(path, &estimator, options);
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
@@ -83,9 +102,16 @@ int RunReplayCommand(const ReplayCommand& c) {
     std::cerr << "Error: " << e.what() << "\n";
     return kUsage;
   }
-  std::cout << "replayed " << c.log << ": " << r.events << " events, " << r.counters.received << " on "
-            << options.channel << "; accepted " << r.counters.accepted << ", rejected " << r.counters.total_rejected();
+  std::cout << "replayed " << path << ": " << r.events << (options.can ? " lines, " : " events, ") << r.counters.received
+            << (options.can ? " frames" : " on " + options.channel) << "; accepted " << r.counters.accepted
+            << ", rejected " << r.counters.total_rejected();
   for (const auto& [reason, count] : r.counters.rejected) std::cout << " (" << reason << " " << count << ")";
+  if (options.can) {
+    const CanCounters& k = r.can;
+    std::cout << "\nCAN: " << k.ticks << " complete ticks; unknown id " << k.unknown_id << ", malformed " << k.malformed
+              << ", error frames " << k.error_frames << ", late " << k.late << ", superseded " << k.superseded
+              << "; " << r.lines_not_frames << " lines that are not frames";
+  }
   std::cout << "\nthroughput: " << static_cast<long long>(r.samples_per_second) << " samples/s (" << r.seconds
             << " s)\n";
   std::cout << "final estimate:\n";

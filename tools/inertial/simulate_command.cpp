@@ -11,6 +11,7 @@
 #include "exit_codes.hpp"
 #include "inertial/io/identification_report.hpp"
 #include "inertial/io/joint_csv.hpp"
+#include "inertial/io/can_joint_assembler.hpp"
 #include "inertial/io/joint_message.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/joint_simulation.hpp"
@@ -29,6 +30,9 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
   sub->add_option("--write-log", c->write_log,
                   "also (or instead) write the stream as an LCM log of inertial.joint_state_t (as lcm-logger would)");
   sub->add_option("--log-channel", c->log_channel, "channel of --write-log")->default_val("INERTIAL_JOINT_STATE");
+  sub->add_option("--write-candump", c->write_candump,
+                  "also write the motors' reply frames (--can-config) as a candump -l log on can0");
+  sub->add_option("--can-config", c->can_config, "motors.yaml for --write-candump");
   sub->add_option("--effects", c->effects, "effects in the true robot (syntax of identify --effects)");
   sub->add_option("--effect-values", c->effect_values,
                   "true coefficients, one per effect term in list order (an effect without @ gives one term per "
@@ -59,9 +63,22 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
 }
 
 int RunSimulateCommand(const SimulateCommand& c) {
-  if (c.out.empty() && c.write_log.empty()) {
-    std::cerr << "Error: give --out CSV and/or --write-log LCM\n";
+  if (c.out.empty() && c.write_log.empty() && c.write_candump.empty()) {
+    std::cerr << "Error: give --out CSV, --write-log LCM and/or --write-candump LOG\n";
     return kUsage;
+  }
+  if (c.write_candump.empty() != c.can_config.empty()) {
+    std::cerr << "Error: --write-candump and --can-config go together\n";
+    return kUsage;
+  }
+  std::optional<CanConfig> can;
+  if (!c.can_config.empty()) {
+    try {
+      can = LoadCanConfig(c.can_config);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --can-config: " << e.what() << "\n";
+      return kUsage;
+    }
   }
   double perturb = 0, duration = 0, rate = 0, base_frequency = 0, amplitude = 0, noise_q = 0, noise_qd = 0, noise_tau = 0;
   int harmonics = 0;
@@ -159,9 +176,13 @@ int RunSimulateCommand(const SimulateCommand& c) {
   samples = AddGaussianNoise(samples, SampleNoise{noise_q, noise_qd, 0.0, noise_tau}, seed + 1);
   try {
     if (!c.write_log.empty()) WriteJointStateLog(c.write_log, c.log_channel, samples, !c.positions_only);
+    if (can) WriteMotorCandump(c.write_candump, "can0", *can, samples);
   } catch (const std::runtime_error& e) {
-    std::cerr << "Error: --write-log: " << e.what() << "\n";
+    std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --can-config: " << e.what() << "\n";
+    return kUsage;
   }
   try {
     if (c.out.empty()) {
@@ -206,7 +227,11 @@ int RunSimulateCommand(const SimulateCommand& c) {
       return kIoError;
     }
   }
-  std::cerr << "wrote " << (c.out.empty() ? c.write_log : c.out) << (c.out.empty() || c.write_log.empty() ? "" : " and " + c.write_log)
+  std::string written;
+  for (const std::string* f : {&c.out, &c.write_log, &c.write_candump}) {
+    if (!f->empty()) written += (written.empty() ? "" : " and ") + *f;
+  }
+  std::cerr << "wrote " << written
             << ": " << samples.size() << " samples of " << model->num_dofs() << " joints, "
             << duration << " s at " << rate << " Hz\n";
   return kOk;

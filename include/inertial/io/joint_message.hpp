@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "inertial/estimation/causal_acceleration.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/io/lcm_layout.hpp"
 #include "inertial/model/joint_samples.hpp"
@@ -60,7 +61,7 @@ class JointMessageDecoder {
   std::vector<std::string> dofs_;
   bool primed_ = false;
   double last_t_ = 0.0;
-  Eigen::VectorXd last_qd_, qdd_filtered_;
+  CausalAcceleration acceleration_;
 };
 
 /// Encodes a sample as inertial.joint_state_t (names in the sample's DOF order, utime = t * 1e6).
