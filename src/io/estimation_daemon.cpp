@@ -109,10 +109,38 @@ struct EstimationDaemon::Impl {
       : lcm(o.lcm_url), decoder(std::move(d)), queue(o.queue_capacity, prototype), scratch(prototype) {}
   lcm::LCM lcm;  // received on by the receiver thread, published on by the estimator thread
   std::optional<JointMessageDecoder> decoder;  // robot mode; single-body messages need no state
+  std::optional<CanJointAssembler> assembler;  // CAN mode: frames from `bus` instead of LCM
+  std::unique_ptr<CanBus> bus;
   BoundedQueue<Sample> queue;
   Sample scratch;  // decoded by the receiver thread only
   EstimationDaemon* owner = nullptr;
   std::uint64_t rejections_logged = 0;
+
+  // CAN mode: one frame into the assembler; a completed tick into the queue.
+  void OnFrame(const CanFrame& frame) {
+    const CanCounters before = assembler->counters();
+    std::string why;
+    const bool tick = assembler->Feed(frame, &scratch.joint, &why);
+    const bool dropped = tick && !queue.TryPush(scratch);
+    const CanCounters& after = assembler->counters();
+    {
+      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
+      ++owner->counters_.received;
+      auto add = [&](const char* reason, std::uint64_t a, std::uint64_t b) {
+        if (b > a) owner->counters_.rejected[reason] += b - a;
+      };
+      add("unknown_id", before.unknown_id, after.unknown_id);
+      add("malformed", before.malformed, after.malformed);
+      add("error_frame", before.error_frames, after.error_frames);
+      add("late", before.late, after.late);
+      add("superseded", before.superseded, after.superseded);
+      add("priming", before.priming, after.priming);
+      if (dropped) ++owner->counters_.dropped;
+    }
+    if (after.malformed > before.malformed && ++rejections_logged <= 10) {
+      owner->Log(LogLevel::kWarn, "rejected a CAN frame: " + why);
+    }
+  }
 
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     std::string why;
@@ -165,6 +193,24 @@ EstimationDaemon::EstimationDaemon(const InertialParams& prior, DaemonOptions op
   Start(6);
 }
 
+EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options, CanConfig can, std::unique_ptr<CanBus> bus)
+    : options_(std::move(options)) {
+  CheckOptions(options_);
+  if (!bus) throw std::invalid_argument("inertiald: no CAN bus");
+  const int n = model.num_dofs(), P = model.num_parameters();
+  CanJointAssembler assembler(std::move(can), model.dof_names());
+  estimator_ = std::make_unique<OnlineJointEstimator>(std::move(model), Eigen::VectorXd::Zero(P), options_.estimator);
+  Sample prototype;
+  prototype.joint.q = prototype.joint.qd = prototype.joint.qdd = prototype.joint.tau = Eigen::VectorXd::Zero(n);
+  impl_ = std::make_unique<Impl>(options_, std::nullopt, prototype);
+  std::vector<CanId> ids;
+  for (const MotorConfig& m : assembler.config().motors) ids.push_back({m.can_id, m.extended});
+  bus->SetFilters(ids);
+  impl_->assembler.emplace(std::move(assembler));
+  impl_->bus = std::move(bus);
+  Start(n);
+}
+
 void EstimationDaemon::Start(int num_channels) {
   impl_->owner = this;
   if (!impl_->lcm.good()) {
@@ -193,7 +239,7 @@ void EstimationDaemon::Start(int num_channels) {
       Log(LogLevel::kWarn, std::string("checkpoint unreadable, starting from the priors: ") + e.what());
     }
   }
-  impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+  if (!impl_->bus) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
 }
 
 EstimationDaemon::~EstimationDaemon() = default;
@@ -305,14 +351,23 @@ void EstimationDaemon::Checkpoint() {
 int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   std::atomic<bool> receiver_failed{false}, receiver_stop{false};
   std::thread receiver([&] {
+    CanFrame frame;
     while (!receiver_stop) {
-      if (impl_->lcm.handleTimeout(50) < 0) {
+      if (impl_->bus) {
+        try {
+          if (impl_->bus->Read(&frame, 50)) impl_->OnFrame(frame);
+        } catch (const std::exception& e) {
+          Log(LogLevel::kError, e.what());
+          receiver_failed = true;
+          return;
+        }
+      } else if (impl_->lcm.handleTimeout(50) < 0) {
         receiver_failed = true;
         return;
       }
     }
   });
-  Log(LogLevel::kInfo, "listening on " + options_.input_channel + ", publishing " + options_.estimate_channel + " at " +
+  Log(LogLevel::kInfo, "listening on " + (impl_->bus ? std::string("the CAN bus") : options_.input_channel) + ", publishing " + options_.estimate_channel + " at " +
                            std::to_string(options_.publish_rate_hz) + " Hz (" +
                            std::to_string(recursive_estimator().num_parameters()) + " parameters, " +
                            std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
@@ -339,7 +394,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   Checkpoint();
   Log(LogLevel::kInfo, CountersText());
   if (receiver_failed) {
-    Log(LogLevel::kError, "LCM stopped receiving");
+    Log(LogLevel::kError, impl_->bus ? "the CAN bus failed" : "LCM stopped receiving");
     return 1;
   }
   return 0;

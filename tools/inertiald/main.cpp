@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
   app.add_flag("--body", body,
                "a single body on a wrench sensor: inertial.body_wrench_t messages (default channel INERTIAL_BODY_WRENCH)");
   app.add_option("--prior", prior, "--body: the prior body's pi, 10 numbers (default 1 kg, 1 kg m^2 at the origin)");
+  std::string can_interface, can_config;
+  app.add_option("--can", can_interface, "read the motors' frames from this SocketCAN interface (e.g. can0) instead of LCM");
+  app.add_option("--can-config", can_config, "motors.yaml for --can: which frames are which joint's, and how to decode them");
   app.add_option("--effects", effects, "effects beyond rigid links (syntax of `inertial identify --effects`)");
   app.add_option("--config", config_path, "JSON configuration (channels, rates, checkpoint, message format)");
   app.add_option("--lcm-url", lcm_url, "LCM provider URL (default LCM's: udpm://239.255.76.67:7667)");
@@ -57,6 +60,10 @@ int main(int argc, char** argv) {
   }
   DaemonOptions options;
   if (body) options.input_channel = "INERTIAL_BODY_WRENCH";
+  if (can_interface.empty() != can_config.empty() || (body && !can_interface.empty())) {
+    std::cerr << "Error: --can and --can-config go together, with --model\n";
+    return 2;
+  }
   try {
     if (!config_path.empty()) {
       std::ifstream in(config_path);
@@ -104,6 +111,11 @@ int main(int argc, char** argv) {
         pi = Eigen::Map<const Vector10>(v.data());
       }
       daemon = std::make_unique<EstimationDaemon>(InertialParams::FromVector(pi), options);
+    } else if (!can_interface.empty()) {
+      const RobotModel robot = LoadUrdf(model_path);
+      CanConfig can = LoadCanConfig(can_config);
+      daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options,
+                                                  std::move(can), std::make_unique<SocketCanBus>(can_interface));
     } else {
       const RobotModel robot = LoadUrdf(model_path);
       daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options);

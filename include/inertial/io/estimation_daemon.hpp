@@ -22,6 +22,8 @@
 
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/io/can_bus.hpp"
+#include "inertial/io/can_joint_assembler.hpp"
 #include "inertial/io/joint_message.hpp"
 
 namespace lcm {
@@ -72,6 +74,9 @@ class EstimationDaemon {
   EstimationDaemon(RobotDynamics model, DaemonOptions options);
   /// One body from inertial.body_wrench_t messages (options.format unused), starting at `prior`.
   EstimationDaemon(const InertialParams& prior, DaemonOptions options);
+  /// A robot from its motors' CAN frames (can_joint_assembler.hpp) read from `bus` (filtered to
+  /// the motors' identifiers); estimates still go out on LCM.
+  EstimationDaemon(RobotDynamics model, DaemonOptions options, CanConfig can, std::unique_ptr<CanBus> bus);
   ~EstimationDaemon();
 
   /// Runs until `stop` is true; returns 0, or 1 if LCM failed while running.
