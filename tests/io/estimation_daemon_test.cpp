@@ -12,6 +12,7 @@
 
 #include "cli_support.hpp"
 #include "inertial/estimate_t.hpp"
+#include "inertial/residual_t.hpp"
 #include "inertial/io/body_message.hpp"
 #include "inertial/io/estimation_daemon.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
@@ -161,6 +162,45 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   for (double r : e.residual_rms) {
     EXPECT_GT(r, 0.2);
     EXPECT_LT(r, 0.6);  // noise 0.3 N m, the estimate still converging
+  }
+}
+
+struct CapturedResiduals {
+  std::mutex mutex;
+  std::vector<inertial::residual_t> residuals;
+  void Handle(const lcm::ReceiveBuffer*, const std::string&, const inertial::residual_t* m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    residuals.push_back(*m);
+  }
+};
+
+// --residual-channel: one residual_t per sample, measured - predicted, with the sample's status.
+TEST(EstimationDaemon, PublishesAResidualPerSample) {
+  const Stream& s = LegStream();
+  DaemonOptions o = MemqOptions();
+  o.residual_channel = "INERTIAL_RESIDUAL";
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+  CapturedResiduals captured;
+  daemon.lcm().subscribe("INERTIAL_RESIDUAL", &CapturedResiduals::Handle, &captured);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  for (int i = 0; i < 200; ++i) {
+    const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+  }
+  WaitFor(daemon, 200);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  stop = true;
+  runner.join();
+  std::lock_guard<std::mutex> lock(captured.mutex);
+  ASSERT_EQ(captured.residuals.size(), 200u);
+  const inertial::residual_t& last = captured.residuals.back();
+  EXPECT_EQ(last.status, "accepted");
+  ASSERT_EQ(last.num_channels, 3);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(last.measured[static_cast<size_t>(k)], s.samples[199].tau[k]);
+    EXPECT_DOUBLE_EQ(last.residual[static_cast<size_t>(k)],
+                     last.measured[static_cast<size_t>(k)] - last.predicted[static_cast<size_t>(k)]);
   }
 }
 
