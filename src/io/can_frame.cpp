@@ -53,6 +53,7 @@ CandumpLine ParseCandumpLine(std::string_view line, CanFrame* f, std::string* if
       scale *= 0.1;
     }
   }
+  if (!(seconds < 1e12)) return not_frame("time stamp out of range");
   std::string_view rest = Trim(line.substr(close + 1));
   const size_t space = rest.find_first_of(" \t");
   if (space == std::string_view::npos) return not_frame("no interface and frame after the time stamp");

@@ -80,8 +80,8 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   positive("measurement_sigma", &o->estimator.measurement_sigma);
   if (c.contains("queue_capacity")) {
     if (!c["queue_capacity"].is_number_integer() || c["queue_capacity"].get<long long>() < 1 ||
-        c["queue_capacity"].get<long long>() > 1000000) {
-      throw std::invalid_argument("config: \"queue_capacity\" must be an integer in [1, 1000000]");
+        c["queue_capacity"].get<long long>() > 100000) {
+      throw std::invalid_argument("config: \"queue_capacity\" must be an integer in [1, 100000]");
     }
     o->queue_capacity = c["queue_capacity"].get<std::size_t>();
   }
@@ -142,7 +142,17 @@ struct EstimationDaemon::Impl {
     }
   }
 
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    try {
+      Handle(rbuf, channel);
+    } catch (const std::exception& e) {  // nothing may escape the LCM thread
+      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
+      ++owner->counters_.received;
+      ++owner->counters_.rejected["decode"];
+    }
+  }
+
+  void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     std::string why;
     const MessageRejection r =
         decoder ? decoder->Decode(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch.joint, &why)
@@ -265,6 +275,7 @@ void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
   if (static_cast<int>(level) > static_cast<int>(options_.log_level)) return;
   static const char* kNames[] = {"error", "warn", "info", "debug"};
   const std::string line = std::string("inertiald [") + kNames[static_cast<int>(level)] + "] " + text;
+  std::lock_guard<std::mutex> lock(log_mutex_);  // both threads log
   if (log_sink_) {
     log_sink_(line);
   } else {
@@ -350,6 +361,7 @@ void EstimationDaemon::Checkpoint() {
 
 int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   std::atomic<bool> receiver_failed{false}, receiver_stop{false};
+  Sample sample = impl_->scratch;  // before the receiver thread writes scratch
   std::thread receiver([&] {
     CanFrame frame;
     while (!receiver_stop) {
@@ -371,24 +383,30 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
                            std::to_string(options_.publish_rate_hz) + " Hz (" +
                            std::to_string(recursive_estimator().num_parameters()) + " parameters, " +
                            std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
-  Sample sample = impl_->scratch;
   double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
   double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
   auto utime = [&] { return static_cast<std::int64_t>(std::llround(last_t_ * 1e6)); };
-  while (!stop && !receiver_failed) {
-    if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(sample);
-    const double now = NowSeconds();
-    if (now >= next_publish) {
-      Publish(utime());
-      next_publish = now + 1.0 / options_.publish_rate_hz;
+  bool failed = false;
+  try {
+    while (!stop && !receiver_failed) {
+      if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(sample);
+      const double now = NowSeconds();
+      if (now >= next_publish) {
+        Publish(utime());
+        next_publish = now + 1.0 / options_.publish_rate_hz;
+      }
+      if (now >= next_checkpoint) {
+        Checkpoint();
+        next_checkpoint = now + options_.checkpoint_interval_s;
+      }
     }
-    if (now >= next_checkpoint) {
-      Checkpoint();
-      next_checkpoint = now + options_.checkpoint_interval_s;
-    }
+  } catch (const std::exception& e) {
+    Log(LogLevel::kError, std::string("estimation stopped: ") + e.what());
+    failed = true;
   }
   receiver_stop = true;
   receiver.join();
+  if (failed) return 1;
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(sample);
   Publish(utime());
   Checkpoint();

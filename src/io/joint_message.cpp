@@ -56,7 +56,10 @@ JointMessageFormat ParseJointMessageFormat(const nlohmann::json& j) {
   text_or_null("names", &f.names_field);
   if (j.contains("joint_names")) {
     if (!j["joint_names"].is_array()) throw std::invalid_argument("message format: \"joint_names\" must be a list");
-    f.joint_names = j["joint_names"].get<std::vector<std::string>>();
+    for (const nlohmann::json& name : j["joint_names"]) {
+      if (!name.is_string()) throw std::invalid_argument("message format: \"joint_names\" must be a list of strings");
+      f.joint_names.push_back(name.get<std::string>());
+    }
     if (!j.contains("names")) f.names_field.clear();
   }
   text_or_null("q", &f.q);
@@ -101,6 +104,11 @@ JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<
   }
   if (!format_.utime_field.empty() && !HasField(format_.layout, format_.utime_field, false)) {
     throw std::invalid_argument("message format: utime '" + format_.utime_field + "' is not a numeric field");
+  }
+  for (const LcmField& f : format_.layout.fields) {
+    if (f.name == format_.utime_field && f.is_array()) {
+      throw std::invalid_argument("message format: utime '" + f.name + "' must be a scalar field, not an array");
+    }
   }
   if (!format_.names_field.empty() && !HasField(format_.layout, format_.names_field, true)) {
     throw std::invalid_argument("message format: names '" + format_.names_field + "' is not a string field");

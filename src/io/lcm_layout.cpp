@@ -228,12 +228,12 @@ LcmLayout ParseLcmLayout(const nlohmann::json& j) {
     }
     f.type = t->second;
     if (e.contains("length")) {
-      if (e["length"].is_number_integer() && e["length"].get<long long>() >= 0 && e["length"].get<long long>() <= 1 << 20) {
+      if (e["length"].is_number_integer() && e["length"].get<long long>() >= 0 && e["length"].get<long long>() <= 4096) {
         f.length = e["length"].get<int>();
       } else if (e["length"].is_string()) {
         f.length_field = e["length"].get<std::string>();
       } else {
-        throw std::invalid_argument(where + " '" + f.name + "': length must be a non-negative integer or a field name");
+        throw std::invalid_argument(where + " '" + f.name + "': length must be an integer in [0, 4096] or a field name");
       }
     }
     layout.fields.push_back(f);

@@ -143,6 +143,12 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
       }
     }
     result.can = assembler.counters();
+    // Frames that gave no sample, by reason, as inertiald counts them.
+    for (const auto& [reason, count] : {std::pair<const char*, std::uint64_t>{"unknown_id", result.can.unknown_id},
+                                        {"malformed", result.can.malformed}, {"error_frame", result.can.error_frames},
+                                        {"late", result.can.late}, {"superseded", result.can.superseded}}) {
+      if (count > 0) result.counters.rejected[reason] += count;
+    }
   } else if (EndsWith(path, ".csv")) {
     const JointSamples log = ReadJointCsv(path, model.dof_names());
     JointSample s;

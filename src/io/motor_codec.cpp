@@ -120,7 +120,36 @@ CanFrame EncodeMotorFrame(const MotorConfig& m, const MotorReading& r) {
   return f;
 }
 
+namespace {
+CanConfig ParseCanConfigNodes(const std::string& text, const std::string& source);
+}  // namespace
+
 CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
+  try {
+    return ParseCanConfigNodes(text, source);
+  } catch (const YAML::Exception& e) {  // a value of the wrong kind (a list where a number belongs ...)
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+}
+
+namespace {
+
+// An integer field: finite, whole and within [lo, hi] before any cast.
+int Integer(const YAML::Node& n, const std::string& where, double lo, double hi, const std::string& source) {
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    throw std::invalid_argument(source + ": " + where + " must be an integer");
+  }
+  if (!std::isfinite(v) || v != std::floor(v) || v < lo || v > hi) {
+    throw std::invalid_argument(source + ": " + where + " must be an integer in [" + std::to_string(static_cast<long long>(lo)) +
+                                ", " + std::to_string(static_cast<long long>(hi)) + "]");
+  }
+  return static_cast<int>(v);
+}
+
+CanConfig ParseCanConfigNodes(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -180,7 +209,7 @@ CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
                                   (m.extended ? "29" : "11") + "-bit CAN identifier");
     }
     m.can_id = static_cast<std::uint32_t>(id);
-    if (n["motor_id"]) m.motor_id = static_cast<int>(number(n["motor_id"], where + " motor_id"));
+    if (n["motor_id"]) m.motor_id = Integer(n["motor_id"], where + " motor_id", 0, 255, source);
     const std::string protocol = n["protocol"] ? n["protocol"].as<std::string>() : "mini_cheetah";
     if (protocol == "mini_cheetah") {
       m.protocol = MotorProtocol::kMiniCheetah;
@@ -199,8 +228,8 @@ CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
       auto field = [&](const char* key, LinearField* f) {
         const YAML::Node& x = n[key];
         if (!x || !x.IsMap()) throw std::invalid_argument(w + ": linear protocol needs '" + key + "': {byte, width, ...}");
-        f->byte = x["byte"] ? static_cast<int>(number(x["byte"], where + " " + key + ".byte")) : 0;
-        f->width = x["width"] ? static_cast<int>(number(x["width"], where + " " + key + ".width")) : 2;
+        f->byte = x["byte"] ? Integer(x["byte"], where + " " + key + ".byte", 0, 7, source) : 0;
+        f->width = x["width"] ? Integer(x["width"], where + " " + key + ".width", 1, 4, source) : 2;
         f->is_signed = !x["signed"] || x["signed"].as<bool>();
         const std::string endian = x["endian"] ? x["endian"].as<std::string>() : "little";
         if (endian != "little" && endian != "big") throw std::invalid_argument(w + ": " + key + ".endian must be little or big");
@@ -208,7 +237,7 @@ CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
         f->scale = x["scale"] ? number(x["scale"], where + " " + key + ".scale") : 1.0;
         f->offset = x["offset"] ? number(x["offset"], where + " " + key + ".offset") : 0.0;
         if (f->width != 1 && f->width != 2 && f->width != 4) throw std::invalid_argument(w + ": " + key + ".width must be 1, 2 or 4");
-        if (f->byte < 0 || f->byte + f->width > 64) throw std::invalid_argument(w + ": " + key + " lies outside the frame");
+        if (f->byte + f->width > 8) throw std::invalid_argument(w + ": " + key + " lies outside the 8 data bytes of a reply");
         if (f->scale == 0.0) throw std::invalid_argument(w + ": " + key + ".scale must not be 0");
       };
       field("position", &m.position);
@@ -234,9 +263,11 @@ CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
   return c;
 }
 
+}  // namespace
+
 CanConfig LoadCanConfig(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw std::invalid_argument("cannot open '" + path + "'");
+  if (!in) throw std::runtime_error("cannot open '" + path + "'");
   std::stringstream s;
   s << in.rdbuf();
   return ParseCanConfig(s.str(), path);

@@ -66,8 +66,10 @@ TEST(Candump, EveryCaseOfTheFormat) {
   f = Parse("(5.0) can0 7FF#");  // no data
   EXPECT_EQ(f.length, 0);
   std::string why;
-  for (const char* not_frame : {"", "   ", "# a comment", "Timestamp: 1.0 ID: 123", "(1.0)", "(abc) can0 123#00",
-                                "(1.0) can0 123#00 X"}) {
+  const std::string huge_time = "(" + std::string(400, '9') + ".0) can0 123#00";
+  for (const std::string& not_frame : {std::string(""), std::string("   "), std::string("# a comment"),
+                                       std::string("Timestamp: 1.0 ID: 123"), std::string("(1.0)"),
+                                       std::string("(abc) can0 123#00"), std::string("(1.0) can0 123#00 X"), huge_time}) {
     EXPECT_EQ(ParseCandumpLine(not_frame, &f, &iface, &why), CandumpLine::kNotAFrame) << not_frame;
   }
   for (const char* bad : {"(1.0) can0 800#00", "(1.0) can0 12#00", "(1.0) can0 123#0", "(1.0) can0 123#GG",
@@ -306,7 +308,11 @@ motors:
   for (const char* bad : {"motors: []", "motors:\n  - {id: 0x800, joint: a}", "motors:\n  - {id: 1, joint: a, colour: red}",
                           "motors:\n  - {id: 1, joint: a}\n  - {id: 2, joint: a}", "motors:\n  - {id: 1, joint: a, protocol: canopen}",
                           "motors:\n  - {id: 1, joint: a, protocol: linear}", "motors:\n  - {id: x1, joint: a}",
-                          "motors:\n  - {id: 1, joint: a, position: [3, 1]}", "motors: [", "speed: 3\nmotors: []"}) {
+                          "motors:\n  - {id: 1, joint: a, position: [3, 1]}", "motors: [", "speed: 3\nmotors: []",
+                          "motors:\n  - {id: [1, 2], joint: a}", "motors:\n  - {id: 1, joint: [a, b]}",
+                          "motors:\n  - {id: 1, joint: a, extended: maybe}", "motors:\n  - {id: 1, joint: a, motor_id: 1e20}",
+                          "motors:\n  - {id: 1, joint: a, protocol: linear, position: {byte: 60}, velocity: {}, torque: {}}",
+                          "motors:\n  - {id: 1, joint: a, protocol: linear, position: {width: 2.5}, velocity: {}, torque: {}}"}) {
     EXPECT_THROW(ParseCanConfig(bad, "bad.yaml"), std::invalid_argument) << bad;
   }
 }

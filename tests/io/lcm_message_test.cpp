@@ -283,6 +283,12 @@ TEST(LcmLayout, RejectsBadLayouts) {
   JointMessageFormat f;
   f.tau = "torque";
   EXPECT_THROW(JointMessageDecoder(f, kDofs), std::invalid_argument);
+  JointMessageFormat array_time;
+  array_time.utime_field = "qdd";  // a variable-length array cannot be the time
+  EXPECT_THROW(JointMessageDecoder(array_time, kDofs), std::invalid_argument);
+  EXPECT_THROW(ParseJointMessageFormat(nlohmann::json::parse(R"({"joint_names": [1, 2, 3]})")), std::invalid_argument);
+  EXPECT_THROW(ParseLcmLayout(nlohmann::json::parse(R"({"fields": [{"name": "a", "type": "double", "length": 5000}]})")),
+               std::invalid_argument);
 }
 
 }  // namespace

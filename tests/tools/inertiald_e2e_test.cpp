@@ -160,6 +160,8 @@ TEST(InertialdCli, RefusesBadInput) {
   ASSERT_NE(daemon, nullptr);
   const fs::path config = testing::UniqueTempPath("config.json"), bad_json = testing::UniqueTempPath("bad.json");
   std::ofstream(config) << R"({"channel": "X", "publish_rate": 5})";
+  const fs::path typed = testing::UniqueTempPath("typed.json");
+  std::ofstream(typed) << R"({"format": {"joint_names": [1, 2, 3]}})";
   std::ofstream(bad_json) << "{ not json";
   const std::string leg = testing::Example("leg3.urdf");
   struct Bad {
@@ -178,6 +180,8 @@ TEST(InertialdCli, RefusesBadInput) {
            {{"--model", leg, "--publish-rate", "-3"}, 2, "--publish-rate"},
            {{"--model", leg, "--effects", "coulomb@ankle", "--lcm-url", "memq://"}, 2, "ankle"},
            {{"--body", "--prior", "1 2 3", "--lcm-url", "memq://"}, 2, "10 expected"},
+           {{"--model", leg, "--config", typed.string()}, 2, typed.string()},
+           {{"--model", leg, "--can", "vcan0", "--can-config", "/nonexistent.yaml"}, 5, "/nonexistent.yaml"},
        }) {
     const testing::CliRun r = testing::RunProgram(daemon, b.args);
     EXPECT_EQ(r.exit_code, b.exit_code) << Describe(r);
@@ -185,6 +189,7 @@ TEST(InertialdCli, RefusesBadInput) {
   }
   fs::remove(config);
   fs::remove(bad_json);
+  fs::remove(typed);
 }
 
 }  // namespace

@@ -50,6 +50,9 @@ int RunReplayCommand(const ReplayCommand& c) {
     } catch (const std::invalid_argument& e) {
       std::cerr << "Error: --can-config: " << e.what() << "\n";
       return kUsage;
+    } catch (const std::runtime_error& e) {
+      std::cerr << "Error: --can-config: " << e.what() << "\n";
+      return kIoError;
     }
   }
   const std::string& path = c.candump.empty() ? c.log : c.candump;

@@ -78,6 +78,9 @@ int RunSimulateCommand(const SimulateCommand& c) {
     } catch (const std::invalid_argument& e) {
       std::cerr << "Error: --can-config: " << e.what() << "\n";
       return kUsage;
+    } catch (const std::runtime_error& e) {
+      std::cerr << "Error: --can-config: " << e.what() << "\n";
+      return kIoError;
     }
   }
   double perturb = 0, duration = 0, rate = 0, base_frequency = 0, amplitude = 0, noise_q = 0, noise_qd = 0, noise_tau = 0;

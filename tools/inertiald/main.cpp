@@ -78,7 +78,12 @@ int main(int argc, char** argv) {
         std::cerr << "Error: --config: " << config_path << " is not valid JSON: " << e.what() << "\n";
         return 5;
       }
-      ApplyDaemonConfig(config, &options);
+      try {
+        ApplyDaemonConfig(config, &options);
+      } catch (const std::exception& e) {
+        std::cerr << "Error: --config " << config_path << ": " << e.what() << "\n";
+        return 2;
+      }
     }
     if (!lcm_url.empty()) options.lcm_url = lcm_url;
     if (!channel.empty()) options.input_channel = channel;
@@ -113,7 +118,13 @@ int main(int argc, char** argv) {
       daemon = std::make_unique<EstimationDaemon>(InertialParams::FromVector(pi), options);
     } else if (!can_interface.empty()) {
       const RobotModel robot = LoadUrdf(model_path);
-      CanConfig can = LoadCanConfig(can_config);
+      CanConfig can;
+      try {
+        can = LoadCanConfig(can_config);
+      } catch (const std::runtime_error& e) {  // the file cannot be read
+        std::cerr << "Error: --can-config: " << e.what() << "\n";
+        return 5;
+      }
       daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options,
                                                   std::move(can), std::make_unique<SocketCanBus>(can_interface));
     } else {
@@ -126,9 +137,12 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return 2;
-  } catch (const std::runtime_error& e) {
+  } catch (const std::runtime_error& e) {  // LCM or the CAN interface could not start
     std::cerr << "Error: " << e.what() << "\n";
     return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return 2;
   }
   struct sigaction action {};
   action.sa_handler = OnSignal;

@@ -112,7 +112,7 @@ class EstimationDaemon {
   std::unique_ptr<OnlineJointEstimator> estimator_;
   std::unique_ptr<OnlineBodyEstimator> body_;
   std::unique_ptr<Impl> impl_;
-  mutable std::mutex counters_mutex_;
+  mutable std::mutex counters_mutex_, log_mutex_;
   DaemonCounters counters_;
   bool restored_ = false;
   std::function<void(const std::string&)> log_sink_;

@@ -68,7 +68,8 @@ struct CanConfig {
 };
 
 /// Reads motors.yaml (see the file comment). @throws std::invalid_argument naming the file, the
-/// motor and the key (unknown keys, bad ranges, two motors on one frame or one joint).
+/// motor and the key (unknown keys, bad ranges, two motors on one frame or one joint, values of
+/// the wrong kind); std::runtime_error if the file cannot be opened.
 CanConfig LoadCanConfig(const std::string& path);
 CanConfig ParseCanConfig(const std::string& yaml_text, const std::string& source);
 
