@@ -112,7 +112,7 @@ bool Same(const CanFrame& a, const CanFrame& b) {
          (a.remote || std::equal(a.data.begin(), a.data.begin() + a.length, b.data.begin()));
 }
 
-TEST(Candump, RoundTripsAndAgreesWithLog2long) {
+TEST(Candump, RoundTripsAndAgreesWithLog2longAndLog2asc) {
   testing::Rng rng(1);
   const fs::path log = testing::UniqueTempPath("round.log");
   std::vector<CanFrame> frames;
@@ -121,6 +121,7 @@ TEST(Candump, RoundTripsAndAgreesWithLog2long) {
     for (int i = 0; i < 2000; ++i) {
       CanFrame f = RandomFrame(rng);
       if (f.fd || f.error) continue;  // log2long of can-utils 2020.11 prints classic frames
+      f.t = 1000.0 + 0.001 * i;       // a log's times increase (log2asc restarts at a backward jump)
       frames.push_back(f);
       out << FormatCandumpLine(f, "can0") << "\n";
       CanFrame back;
@@ -157,6 +158,34 @@ TEST(Candump, RoundTripsAndAgreesWithLog2long) {
         bytes += buf;
       }
       EXPECT_EQ(m[4].str(), bytes) << line;
+    }
+  }
+  EXPECT_EQ(k, frames.size());
+  // And can-utils' log2asc (Vector ASC): identifier with 'x' when extended, 'd' data or 'r' remote,
+  // length and bytes.
+  if (!fs::exists("/usr/bin/log2asc")) GTEST_SKIP() << "can-utils' log2asc is not installed";
+  const testing::CliRun asc = testing::RunProgram("/usr/bin/log2asc", {"-I", log.string(), "can0"});
+  ASSERT_EQ(asc.exit_code, 0) << testing::Describe(asc);
+  std::istringstream asc_lines(asc.out);
+  const std::regex asc_pattern(R"(^\s+[0-9.]+ 1\s+([0-9A-F]+)(x?)\s+Rx\s+([dr]) (\d+)((?: [0-9A-F]{2})*)\s*$)");
+  k = 0;
+  while (std::getline(asc_lines, line)) {
+    std::smatch m;
+    if (!std::regex_search(line, m, asc_pattern)) continue;  // headers: date, base, ...
+    ASSERT_LT(k, frames.size()) << line;
+    const CanFrame& f = frames[k++];
+    EXPECT_EQ(std::stoul(m[1].str(), nullptr, 16), f.id) << line;
+    EXPECT_EQ(m[2].str() == "x", f.extended) << line;
+    EXPECT_EQ(m[3].str() == "r", f.remote) << line;
+    EXPECT_EQ(std::stoi(m[4].str()), f.length) << line;
+    if (!f.remote) {
+      std::string bytes;
+      char buf[4];
+      for (int i = 0; i < f.length; ++i) {
+        std::snprintf(buf, sizeof buf, " %02X", f.data[static_cast<size_t>(i)]);
+        bytes += buf;
+      }
+      EXPECT_EQ(m[5].str(), bytes) << line;
     }
   }
   EXPECT_EQ(k, frames.size());
