@@ -146,9 +146,13 @@ struct EstimationDaemon::Impl {
     try {
       Handle(rbuf, channel);
     } catch (const std::exception& e) {  // nothing may escape the LCM thread
-      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
-      ++owner->counters_.received;
-      ++owner->counters_.rejected["decode"];
+      {
+        std::lock_guard<std::mutex> lock(owner->counters_mutex_);
+        ++owner->counters_.received;
+        ++owner->counters_.rejected["decode"];
+      }
+      owner->Log(LogLevel::kWarn, std::string("a message on ") + owner->options_.input_channel +
+                                      " could not be handled: " + e.what());
     }
   }
 

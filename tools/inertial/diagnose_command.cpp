@@ -82,6 +82,18 @@ std::string HoldoutSource(const std::string& data, double fraction) {
   return "the last " + std::to_string(static_cast<int>(std::lround(100 * fraction))) + " % of " + data;
 }
 
+// The last `holdout` of a log (JointSamples or BodyLog) held out; kInvalidValue if it cannot be split.
+template <typename Log>
+int SplitOrFail(const std::string& data, double holdout, const Log& all, Log* train, Log* validation) {
+  try {
+    SplitHoldout(all, holdout, train, validation);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  return kOk;
+}
+
 int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations) {
   std::vector<BodyEffectKind> effects;
   try {
@@ -127,12 +139,8 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
     return kIoError;
   }
   if (c.validate.empty()) {
-    try {
-      SplitHoldout(all, holdout, &train, &validation);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
-      return kInvalidValue;
-    }
+    const int split = SplitOrFail(c.data, holdout, all, &train, &validation);
+    if (split != kOk) return split;
     source = HoldoutSource(c.data, holdout);
   }
   BodyDiagnosisOptions options;
@@ -194,12 +202,8 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   }
   if (status != kOk) return status;
   if (c.validate.empty()) {
-    try {
-      SplitHoldout(all, holdout, &train, &validation);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
-      return kInvalidValue;
-    }
+    const int split = SplitOrFail(c.data, holdout, all, &train, &validation);
+    if (split != kOk) return split;
     source = HoldoutSource(c.data, holdout);
   }
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {

@@ -15,7 +15,7 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   CLI::App* sub = app.add_subcommand(
       "replay",
       "Replay a recorded log through the online estimator of inertiald: an lcm-logger log (the joint-state messages "
-      "of one channel) or a joint CSV (a .csv file). Writes the estimate trajectory (--out CSV, --write-log LCM) and "
+      "of one channel), a joint CSV (a .csv file), or a candump -l log of motor frames (--candump with --can-config). Writes the estimate trajectory (--out CSV, --write-log LCM) and "
       "prints the throughput.");
   sub->add_option("--model", c->model, "URDF robot description")->required();
   sub->add_option("--log", c->log, "lcm-logger log, or a joint CSV (.csv)");
