@@ -15,6 +15,7 @@ packages=(
   liburdfdom-dev            # urdfdom: reading URDF robot models
   libtinyxml2-dev           # tinyxml2: writing URDF back with identified inertias
   liborocos-kdl-dev         # Orocos KDL: independent inverse dynamics, tests only
+  libkdl-parser-dev         # ROS kdl_parser: another URDF reader loads our model files, tests only
   liblcm-dev liblcm-bin     # LCM: messages, inertiald, log replay; lcm-gen, lcm-logger
   iproute2                  # ip: the multicast end-to-end test sets up its own network namespace
   libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers

@@ -128,7 +128,45 @@ BodyUncertainty UncertaintyOf(const InertialParams& body, const Matrix10& C) {
   G.block<3, 3>(0, 1) = Matrix3::Identity() / m;
   u.com = (G * C * G.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
   u.inertia = C.diagonal().tail<6>().cwiseMax(0.0).cwiseSqrt();
+  Matrix10 J_mci_pi;
+  MassComInertiaAboutCom(body, &J_mci_pi);
+  const Eigen::Matrix<double, 6, 10> G_IC = J_mci_pi.middleRows<6>(mci_index::kIxx);
+  u.inertia_about_com = (G_IC * C * G_IC.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
   return u;
+}
+
+Vector10 MassComInertiaAboutCom(const InertialParams& body, Matrix10* J_mci_pi) {
+  const double m = body.mass();
+  INERTIAL_ASSERT(m != 0.0);
+  const Vector3 h = body.first_moment();
+  const Matrix3 I_C = body.rotational_inertia_about_com();
+  // The six tensor entries in pi's order: (0,0), (1,1), (2,2), (0,1), (1,2), (0,2).
+  constexpr int kRow[6] = {0, 1, 2, 0, 1, 0};
+  constexpr int kCol[6] = {0, 1, 2, 1, 2, 2};
+  Vector10 mci;
+  mci[mci_index::kMass] = m;
+  mci.segment<3>(mci_index::kCx) = h / m;
+  for (int e = 0; e < 6; ++e) mci[mci_index::kIxx + e] = I_C(kRow[e], kCol[e]);
+  if (J_mci_pi != nullptr) {
+    Matrix10& J = *J_mci_pi;
+    J.setZero();
+    J(mci_index::kMass, pi_index::kMass) = 1.0;
+    J.block<3, 1>(mci_index::kCx, pi_index::kMass) = -h / (m * m);
+    J.block<3, 3>(mci_index::kCx, pi_index::kHx) = Matrix3::Identity() / m;
+    const double hh = h.squaredNorm();
+    for (int e = 0; e < 6; ++e) {
+      const int i = kRow[e], j = kCol[e], row = mci_index::kIxx + e;
+      const double delta_ij = i == j ? 1.0 : 0.0;
+      // Shift S_ij = (|h|^2 delta_ij - h_i h_j) / m, I_C = I_O - S.
+      J(row, pi_index::kMass) = (hh * delta_ij - h[i] * h[j]) / (m * m);
+      for (int k = 0; k < 3; ++k) {
+        const double dS_dhk = (2.0 * h[k] * delta_ij - (i == k ? h[j] : 0.0) - (j == k ? h[i] : 0.0)) / m;
+        J(row, pi_index::kHx + k) = -dS_dhk;
+      }
+      J(row, pi_index::kIxx + e) = 1.0;
+    }
+  }
+  return mci;
 }
 
 }  // namespace inertial

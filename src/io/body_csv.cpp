@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <unordered_map>
@@ -17,7 +18,10 @@ constexpr const char* kGravity[] = {"gx", "gy", "gz"};
 
 }  // namespace
 
-BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<std::string>* notices) {
+BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<std::string>* notices, double time_scale) {
+  if (!(time_scale >= 0.0) || !std::isfinite(time_scale)) {
+    throw std::invalid_argument("body CSV: the time scale (--time-scale) must be a positive finite number, or 0 for seconds");
+  }
   const std::string text = csv::ReadAll(in, source);
   csv::LineReader lines(text);
   std::string_view line;
@@ -92,13 +96,17 @@ BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<st
     if (gravity_columns == 3) log.gravity.emplace_back(v[13], v[14], v[15]);
   }
   if (log.samples.size() < 2) throw CsvError(source + ": fewer than 2 data rows");
+  Eigen::VectorXd t(static_cast<Eigen::Index>(log.samples.size()));
+  for (std::size_t i = 0; i < log.samples.size(); ++i) t[static_cast<Eigen::Index>(i)] = log.samples[i].t;
+  ScaleTimeStamps(t, time_scale, source + ": column " + std::to_string(used[0] + 1) + " 't'");
+  for (std::size_t i = 0; i < log.samples.size(); ++i) log.samples[i].t = t[static_cast<Eigen::Index>(i)];
   return log;
 }
 
-BodyLog ReadBodyCsv(const std::string& path, std::vector<std::string>* notices) {
+BodyLog ReadBodyCsv(const std::string& path, std::vector<std::string>* notices, double time_scale) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError("cannot open '" + path + "' for reading: " + std::strerror(errno));
-  return ParseBodyCsv(in, path, notices);
+  return ParseBodyCsv(in, path, notices, time_scale);
 }
 
 void WriteBodyCsv(const std::string& path, const BodyLog& log) {

@@ -72,6 +72,50 @@ std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, 
 
 }  // namespace
 
+std::string WhereItFailsText(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals,
+                             const std::string& what) {
+  std::ostringstream out;
+  out << "Where it fails (" << what << ")\n  worst 1 s windows:";
+  for (const ResidualWindow& w : residuals.worst_windows) {
+    out << " t = " << F(w.t_start, "%.1f") << "-" << F(w.t_end, "%.1f") << " s RMS " << F(w.rms) << " (worst "
+        << dof_names[w.worst_joint] << ");";
+  }
+  out << "\n  residual ~ c0 + c1 sign(qd) + c2 qd + c3 qdd + c4 (q - mean q), per joint (and its slope on tau alone):\n";
+  for (int k = 0; k < static_cast<int>(dof_names.size()); ++k) {
+    const JointResidualSignature& s = residuals.joints[k];
+    out << "  " << dof_names[k] << ": RMS " << F(s.rms) << "; c0 " << F(s.coefficients[kResidualMean])
+        << ", step at reversal " << F(2 * s.coefficients[kVelocitySign]) << ", c2 " << F(s.coefficients[kVelocity])
+        << ", c3 " << F(s.coefficients[kAcceleration]) << ", c4 " << F(s.coefficients[kPosition]) << " (explains "
+        << Percent(s.explained) << "); slope on tau " << F(s.alone[kTorque]) << "\n";
+  }
+  return out.str();
+}
+
+nlohmann::json WhereItFailsJson(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals) {
+  nlohmann::json windows = nlohmann::json::array();
+  for (const ResidualWindow& w : residuals.worst_windows) {
+    windows.push_back({{"t_start", w.t_start}, {"t_end", w.t_end}, {"rms", w.rms},
+                       {"worst_joint", dof_names[w.worst_joint]}});
+  }
+  nlohmann::json joints = nlohmann::json::object();
+  const char* names[kResidualSignals] = {"mean", "velocity_sign", "velocity", "acceleration", "position", "torque"};
+  for (int k = 0; k < static_cast<int>(dof_names.size()); ++k) {
+    const JointResidualSignature& s = residuals.joints[k];
+    nlohmann::json correlations = nlohmann::json::object();
+    for (int q = 1; q < kResidualSignals; ++q) correlations[names[q]] = s.correlations[q];
+    joints[dof_names[k]] = {{"rms", s.rms},
+                                    {"mean", s.coefficients[kResidualMean]},
+                                    {"velocity_sign_step", 2 * s.coefficients[kVelocitySign]},
+                                    {"viscous_slope", s.coefficients[kVelocity]},
+                                    {"acceleration_slope", s.coefficients[kAcceleration]},
+                                    {"position_slope", s.coefficients[kPosition]},
+                                    {"torque_slope", s.alone[kTorque]},
+                                    {"correlations", correlations},
+                                    {"explained", s.explained}};
+  }
+  return {{"worst_windows", windows}, {"joints", joints}};
+}
+
 JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
                                                 const JointSamples& validation, const std::string& validation_source,
                                                 double min_explained) {
@@ -138,19 +182,7 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
     out << "\n";
     ErrorTable(out, model.dof_names(), *d.links_only_validation, d.fit_validation, "N m");
   }
-  out << "\nWhere it fails (held-out residual of the fitted model)\n  worst 1 s windows:";
-  for (const ResidualWindow& w : c.residuals.worst_windows) {
-    out << " t = " << F(w.t_start, "%.1f") << "-" << F(w.t_end, "%.1f") << " s RMS " << F(w.rms) << " (worst "
-        << model.dof_names()[w.worst_joint] << ");";
-  }
-  out << "\n  residual ~ c0 + c1 sign(qd) + c2 qd + c3 qdd + c4 (q - mean q), per joint (and its slope on tau alone):\n";
-  for (int k = 0; k < model.num_dofs(); ++k) {
-    const JointResidualSignature& s = c.residuals.joints[k];
-    out << "  " << model.dof_names()[k] << ": RMS " << F(s.rms) << "; c0 " << F(s.coefficients[kResidualMean])
-        << ", step at reversal " << F(2 * s.coefficients[kVelocitySign]) << ", c2 " << F(s.coefficients[kVelocity])
-        << ", c3 " << F(s.coefficients[kAcceleration]) << ", c4 " << F(s.coefficients[kPosition]) << " (explains "
-        << Percent(s.explained) << "); slope on tau " << F(s.alone[kTorque]) << "\n";
-  }
+  out << "\n" << WhereItFailsText(model.dof_names(), c.residuals, "held-out residual of the fitted model");
   out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (averaged over "
          "joints; suggested from "
       << Percent(c.min_explained) << ")\n";
@@ -254,28 +286,7 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
   j["min_explained"] = c.min_explained;
   j["notes"] = d.notes;
   j["seconds"] = d.seconds;
-  nlohmann::json windows = nlohmann::json::array();
-  for (const ResidualWindow& w : c.residuals.worst_windows) {
-    windows.push_back({{"t_start", w.t_start}, {"t_end", w.t_end}, {"rms", w.rms},
-                       {"worst_joint", model.dof_names()[w.worst_joint]}});
-  }
-  nlohmann::json joints = nlohmann::json::object();
-  const char* names[kResidualSignals] = {"mean", "velocity_sign", "velocity", "acceleration", "position", "torque"};
-  for (int k = 0; k < model.num_dofs(); ++k) {
-    const JointResidualSignature& s = c.residuals.joints[k];
-    nlohmann::json correlations = nlohmann::json::object();
-    for (int q = 1; q < kResidualSignals; ++q) correlations[names[q]] = s.correlations[q];
-    joints[model.dof_names()[k]] = {{"rms", s.rms},
-                                    {"mean", s.coefficients[kResidualMean]},
-                                    {"velocity_sign_step", 2 * s.coefficients[kVelocitySign]},
-                                    {"viscous_slope", s.coefficients[kVelocity]},
-                                    {"acceleration_slope", s.coefficients[kAcceleration]},
-                                    {"position_slope", s.coefficients[kPosition]},
-                                    {"torque_slope", s.alone[kTorque]},
-                                    {"correlations", correlations},
-                                    {"explained", s.explained}};
-  }
-  j["where_it_fails"] = {{"worst_windows", windows}, {"joints", joints}};
+  j["where_it_fails"] = WhereItFailsJson(model.dof_names(), c.residuals);
   return j;
 }
 

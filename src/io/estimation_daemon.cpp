@@ -1,5 +1,6 @@
 #include "inertial/io/estimation_daemon.hpp"
 
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "inertial/io/uncertainty_report.hpp"
 #include "inertial/estimate_t.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -268,11 +270,24 @@ std::string EstimationDaemon::Description() const {
   if (body_) {
     return std::string(body_->estimator().kind()) + " estimator; single body";
   }
-  std::string d = std::string(ToString(estimator_->kind())) + " estimator; joints";
-  for (const std::string& j : estimator_->model().dof_names()) d += " " + j;
+  return CheckpointDescription(*estimator_);
+}
+
+std::string CheckpointDescription(const OnlineJointEstimator& estimator) {
+  std::string d = std::string(ToString(estimator.kind())) + " estimator; joints";
+  for (const std::string& j : estimator.model().dof_names()) d += " " + j;
   d += "; parameters";
-  for (const std::string& p : estimator_->model().ParameterNames()) d += " " + p;
+  for (const std::string& p : estimator.model().ParameterNames()) d += " " + p;
   return d;
+}
+
+void EstimationDaemon::WriteModel() {
+  if (!model_sink_ || !estimator_) return;
+  try {
+    model_sink_(*estimator_);
+  } catch (const std::exception& e) {
+    Log(LogLevel::kError, std::string("writing the model failed: ") + e.what());
+  }
 }
 
 void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
@@ -403,6 +418,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
         Checkpoint();
         next_checkpoint = now + options_.checkpoint_interval_s;
       }
+      if (model_request_ != nullptr && model_request_->exchange(false)) WriteModel();
     }
   } catch (const std::exception& e) {
     Log(LogLevel::kError, std::string("estimation stopped: ") + e.what());
@@ -414,6 +430,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(sample);
   Publish(utime());
   Checkpoint();
+  WriteModel();
   Log(LogLevel::kInfo, CountersText());
   if (receiver_failed) {
     Log(LogLevel::kError, impl_->bus ? "the CAN bus failed" : "LCM stopped receiving");
@@ -449,7 +466,7 @@ namespace {
 
 // One body's part of estimate_t.
 inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialParams& body, const Vector10* theta,
-                                       const Matrix10* covariance_of_pi) {
+                                       const BodyUncertainty* uncertainty) {
   inertial::body_estimate_t b;
   b.name = name;
   const Vector10 pi = body.vector();
@@ -463,11 +480,11 @@ inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialPa
   b.mass_std = 0;
   for (int i = 0; i < 3; ++i) b.com_std[i] = 0;
   for (int i = 0; i < 6; ++i) b.inertia_std[i] = 0;
-  if (covariance_of_pi != nullptr && body.mass() > 0) {
-    const BodyUncertainty u = UncertaintyOf(body, *covariance_of_pi);
+  if (uncertainty != nullptr && body.mass() > 0) {
+    const BodyUncertainty& u = *uncertainty;
     b.mass_std = u.mass;
     for (int i = 0; i < 3; ++i) b.com_std[i] = u.com[i];
-    for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia[i];
+    for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia_about_com[i];  // about the COM, as estimate_t says
   }
   const ConsistencyReport c = CheckConsistency(body);
   b.min_triangle_margin = c.min_triangle_margin;
@@ -506,10 +523,10 @@ std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, con
   const Eigen::MatrixXd P = est.estimator().Covariance();
   const bool per_body = m.estimator != "linear_rls";
   const Vector10 theta = per_body ? Vector10(x.head<10>()) : Vector10::Zero();
-  Matrix10 cov;
-  if (per_body && P.rows() == x.size()) cov = est.layout().BodyCovariance(0, x, P);
-  m.bodies.push_back(BodyEstimate(name, est.Body(), per_body ? &theta : nullptr,
-                                  per_body && P.rows() == x.size() ? &cov : nullptr));
+  const bool with_cov = per_body && P.rows() == x.size() && est.Body().mass() > 0;
+  BodyUncertainty u;
+  if (with_cov) u = UncertaintyOf(est.Body(), est.layout().BodyCovariance(0, x, P));
+  m.bodies.push_back(BodyEstimate(name, est.Body(), per_body ? &theta : nullptr, with_cov ? &u : nullptr));
   m.num_bodies = 1;
   m.num_effects = 0;
   m.channel_names = {"mx", "my", "mz", "fx", "fy", "fz"};
@@ -529,16 +546,15 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
   m.utime = utime;
   m.estimator = std::string(ToString(est.kind()));
   const Eigen::VectorXd& x = est.estimator().parameters();
-  const Eigen::MatrixXd P = est.estimator().Covariance();
   const bool per_body = est.kind() != EstimatorKind::kLinearRls;
-  const ParameterLayout layout = ParameterLayout::FromRobot(model);
+  // The same standard deviations as replay's and the model file's (uncertainty_report.hpp): each
+  // body's in its report frame (a payload's in its link's frame).
+  const std::optional<ModelUncertainty> uncertainty = per_body ? FromOnlineEstimator(est) : std::nullopt;
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const InertialParams body = est.Body(e);
     const Vector10 theta = per_body ? Vector10(x.segment<10>(10 * e)) : Vector10::Zero();
-    Matrix10 cov;
-    const bool with_cov = per_body && P.rows() == x.size() && body.mass() > 0;
-    if (with_cov) cov = layout.BodyCovariance(e, x, P);
-    m.bodies.push_back(BodyEstimate(model.bodies()[e].name, body, per_body ? &theta : nullptr, with_cov ? &cov : nullptr));
+    m.bodies.push_back(BodyEstimate(model.bodies()[e].name, body, per_body ? &theta : nullptr,
+                                    uncertainty && body.mass() > 0 ? &uncertainty->bodies[e] : nullptr));
   }
   m.num_bodies = static_cast<std::int32_t>(m.bodies.size());
   const std::vector<std::string> names = model.FeatureNames();

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "inertial/inertia/consistency.hpp"
+#include "inertial/io/uncertainty_report.hpp"
 
 namespace inertial {
 namespace {
@@ -78,16 +79,30 @@ RobotDynamics MakeRobotDynamics(const RobotModel& robot, const std::vector<Effec
   return RobotDynamics(robot.tree, robot.dof_names, effects, resolve, gravity);
 }
 
-IdentificationRun RunIdentification(const RobotDynamics& model, const JointSamples& train,
-                                    const JointSamples* validation, const JointIdentificationOptions& options) {
+bool IdentificationRun::failed() const {
+  return fit.lm.reason == StopReason::kNumericalFailure || !fit.x.allFinite() || !std::isfinite(fit.data_cost);
+}
+
+IdentificationRun RunIdentification(const RobotDynamics& model, const JointSamples& all_train,
+                                    const JointSamples* validation, const JointIdentificationOptions& options,
+                                    const OutlierOptions& outliers) {
   IdentificationRun run;
-  run.train_samples = train.size();
-  auto start = std::chrono::steady_clock::now();
-  const JointNormalEquations eq = AccumulateNormalEquations(model, train);
-  run.accumulate_seconds = SecondsSince(start);
-  start = std::chrono::steady_clock::now();
-  run.fit = IdentifyJointModel(model, eq, options);
+  const auto start = std::chrono::steady_clock::now();
+  RobustIdentificationResult robust = IdentifyJointModelRobust(model, all_train, options, outliers);
   run.fit_seconds = SecondsSince(start);
+  run.fit = std::move(robust.fit);
+  run.outliers = std::move(robust.outliers);
+  const JointNormalEquations& eq = robust.equations;
+  std::vector<int> keep;
+  for (int i = 0, r = 0; i < all_train.size(); ++i) {
+    if (r < static_cast<int>(run.outliers.rejected.size()) && run.outliers.rejected[r] == i) {
+      ++r;
+    } else {
+      keep.push_back(i);
+    }
+  }
+  const JointSamples train = run.outliers.rejected.empty() ? all_train : SelectSamples(all_train, keep);
+  run.train_samples = train.size();
   // The prior's own error: the URDF's bodies and no effects.
   const Eigen::VectorXd x_urdf = PriorParametersWithoutEffects(model);
   run.prior_weight = options.prior_weight;
@@ -98,7 +113,14 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
     run.prior_validation = CompareTorques(PredictJointTorques(model, x_urdf, *validation), validation->tau);
     run.fit_validation = CompareTorques(PredictJointTorques(model, run.fit.x, *validation), validation->tau);
   }
-  run.identifiability = AnalyzeIdentifiability(eq.AtA, model.FeatureNames());
+  if (!run.failed()) {
+    run.identifiability = AnalyzeIdentifiability(eq.AtA, model.FeatureNames());
+    try {
+      run.uncertainty = EstimateFitUncertainty(model, eq, run.fit.x, options.prior_weight, options.frozen_bodies);
+    } catch (const std::invalid_argument& e) {
+      run.uncertainty_unavailable = e.what();
+    }
+  }
   return run;
 }
 
@@ -111,12 +133,28 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   if (run.fit_validation) out << ", " << run.validation_samples << " validation samples";
   out << "\n  Levenberg-Marquardt: " << fit.lm.iterations << " iterations, stopped on " << ToString(fit.lm.reason)
       << (fit.lm.converged() ? " (converged)" : " (NOT converged)") << ", " << Format("%.3f", run.fit_seconds)
-      << " s (+ " << Format("%.3f", run.accumulate_seconds) << " s for the regressor)\n";
+      << " s with the regressor (" << run.outliers.rounds << " fit" << (run.outliers.rounds == 1 ? "" : "s")
+      << " of the outlier screening)\n";
+  const OutlierReport& o = run.outliers;
+  if (!o.rejected.empty()) {
+    out << "  outliers: " << o.rejected.size() << " of " << run.train_samples + static_cast<int>(o.rejected.size())
+        << " training rows left out (" << o.non_finite.size() << " with non-finite values; the others beyond "
+        << Format("%.3g", o.threshold) << " robust standard deviations of the residual), e.g.\n";
+    for (const std::string& r : o.reasons) out << "    " << r << "\n";
+  }
   out << "  cost: data " << Format("%.6g", fit.data_cost) << " N^2 m^2, regularizer " << Format("%.6g", fit.regularizer)
       << "\n\n";
 
   bool all_consistent = true;
-  out << "Bodies (each in its own link frame; inertia about the COM)\n";
+  out << "Bodies (each in its own link frame; inertia about the COM)";
+  if (run.uncertainty) {
+    out << "; +- one standard deviation from the fit's curvature with the torque noise estimated from the residual ("
+        << Format("%.4g", run.uncertainty->noise_sigma) << " N m); \"held by the prior\": the data determine it "
+        << "less than the regularizer does";
+  } else if (!run.uncertainty_unavailable.empty()) {
+    out << "; no standard deviations: " << run.uncertainty_unavailable;
+  }
+  out << "\n";
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const InertialParams body = model.BodyInertia(e, fit.x);
     const ConsistencyReport c = CheckConsistency(body);
@@ -139,7 +177,11 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       out << " (" << Format("%.3f", axes(0, k)) << " " << Format("%.3f", axes(1, k)) << " " << Format("%.3f", axes(2, k))
           << ")";
     }
-    out << "\n    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
+    out << "\n";
+    if (run.uncertainty) {
+      out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
+    }
+    out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
         << " (mass " << Format("%.3g", c.mass) << " kg, triangle margin " << Format("%.3g", c.min_triangle_margin)
         << " kg m^2, min eig J " << Format("%.3g", c.min_pseudo_inertia_eigenvalue) << ")\n";
   }
@@ -150,7 +192,11 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       const std::vector<double> v = model.EffectValues(k, fit.x);
       const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
       out << "  " << ToString(t.kind) << "@" << t.joint << ":";
-      for (size_t i = 0; i < v.size(); ++i) out << " " << names[i] << " = " << Format("%.6g", v[i]) << " " << units[i];
+      for (size_t i = 0; i < v.size(); ++i) {
+        out << " " << names[i] << " = " << Format("%.6g", v[i]);
+        if (run.uncertainty) out << " +- " << Format("%.3g", run.uncertainty->effects[k][i]);
+        out << " " << units[i];
+      }
       out << "\n";
     }
   }
@@ -248,7 +294,6 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
   j["converged"] = fit.lm.converged();
   j["fit_seconds"] = run.fit_seconds;
   j["prior_weight"] = run.prior_weight;
-  j["accumulate_seconds"] = run.accumulate_seconds;
   j["train_samples"] = run.train_samples;
   j["cost"] = {{"data", fit.data_cost}, {"regularizer", fit.regularizer}};
   j["rms_train"] = PerJointJson(model, run.fit_train.rms, run.fit_train.total_rms);
@@ -267,6 +312,32 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
   bool all_consistent = true;
   j["bodies"] = BodiesJson(model, fit.x, &all_consistent);
   j["effects"] = EffectsJson(model, fit.x);
+  if (run.uncertainty) {
+    j["noise_sigma"] = run.uncertainty->noise_sigma;
+    j["effective_parameters"] = run.uncertainty->effective_parameters;
+    for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+      j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(run.uncertainty->bodies[e], &run.uncertainty->body_held[e]);
+    }
+    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+      const std::vector<std::string> names = EffectValueNames(model.effects()[k].kind);
+      nlohmann::json stds = nlohmann::json::object();
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        const double sd = run.uncertainty->effects[k][i];
+        stds[names[i]] = std::isfinite(sd) ? nlohmann::json(sd) : nlohmann::json("inf");
+      }
+      j["effects"][k]["std"] = stds;
+    }
+  }
+  const OutlierReport& o = run.outliers;
+  nlohmann::json scale = nlohmann::json::object();
+  for (int k = 0; k < model.num_dofs() && k < o.scale.size(); ++k) scale[model.dof_names()[k]] = o.scale[k];
+  j["outliers"] = {{"rejected", o.rejected.size()},
+                   {"non_finite", o.non_finite.size()},
+                   {"rows", std::vector<int>(o.rejected.begin(), o.rejected.begin() + std::min<std::size_t>(20, o.rejected.size()))},
+                   {"threshold", o.threshold},
+                   {"scale", scale},
+                   {"rounds", o.rounds},
+                   {"reasons", o.reasons}};
   j["physically_consistent"] = all_consistent;
   const IdentifiabilityReport& id = run.identifiability;
   nlohmann::json directions = nlohmann::json::array();

@@ -38,6 +38,44 @@ std::string Join(const std::vector<std::string>& items) {
   return out;
 }
 
+// Time stamps (ScaleTimeStamps): sampling periods of real logs, and the plausible range a suggested
+// factor must bring the median step into.
+constexpr double kSmallestStep = 1e-5;      // s: 100 kHz
+constexpr double kLargestStep = 1.0;        // s: 1 Hz
+constexpr double kPlausibleSmallest = 1e-4;  // s: 10 kHz
+constexpr double kPlausibleLargest = 1e-1;   // s: 10 Hz
+
+std::string ShortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.4g", value);
+  return text;
+}
+
+/// Median of the steps of t (at least 2 stamps).
+double MedianStep(const Eigen::Ref<const Eigen::VectorXd>& t) {
+  std::vector<double> steps(static_cast<std::size_t>(t.size() - 1));
+  for (Eigen::Index i = 0; i + 1 < t.size(); ++i) steps[static_cast<std::size_t>(i)] = t[i + 1] - t[i];
+  const std::size_t half = steps.size() / 2;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(half), steps.end());
+  const double upper = steps[half];
+  if (steps.size() % 2 == 1) return upper;
+  return 0.5 * (upper + *std::max_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(half)));
+}
+
+/// "if they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)", or a general hint.
+std::string TimeScaleSuggestion(double median_step) {
+  const std::pair<double, const char*> units[] = {{1e-3, "milliseconds"}, {1e-6, "microseconds"}, {1e-9, "nanoseconds"}};
+  const char* const texts[] = {"1e-3", "1e-6", "1e-9"};
+  for (int u = 0; u < 3; ++u) {
+    const double step = units[u].first * median_step;
+    if (step >= kPlausibleSmallest && step <= kPlausibleLargest) {
+      return std::string("if they are ") + units[u].second + ", give --time-scale " + texts[u] + " (a median step of " +
+             ShortNumber(step) + " s)";
+    }
+  }
+  return "give --time-scale with the factor that converts them to seconds (1e-3 for ms, 1e-6 for us, 1e-9 for ns)";
+}
+
 /// What a used column feeds: the time or one joint's q, qd, qdd or tau.
 enum class Kind { kTime, kQ, kQd, kQdd, kTau };
 
@@ -78,6 +116,7 @@ class Parser {
       if (!ParseRow(number, cells, row)) continue;
       if (!CheckTime(number, row)) continue;
       values_.insert(values_.end(), row.begin(), row.end());
+      report_.lines.push_back(number);
       previous_line_ = number;
     }
     if (data_lines == 0) throw CsvError(source_ + ": no data rows after the header (line 1)");
@@ -265,6 +304,7 @@ class Parser {
                                 (report_.skipped_rows > 1 ? "s " : " ") + Join(bad_lines_) +
                                 (report_.skipped_rows > kListedBadLines ? ", ..." : "") + "; the first: " + first_reason_);
     }
+    ScaleTimeStamps(samples.t, options_.time_scale, source_ + ": " + Column(used_[static_cast<std::size_t>(time_slot_)].column));
     if (derive_qd_ || derive_qdd_) {
       SavitzkyGolayResult sg;
       try {
@@ -356,9 +396,49 @@ class CsvFileWriter {
 
 }  // namespace
 
+void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std::string& where) {
+  if (!(time_scale >= 0.0) || !std::isfinite(time_scale)) {
+    throw std::invalid_argument("time scale (--time-scale) must be a positive finite number, or 0 for seconds; got " +
+                                ShortestText(time_scale));
+  }
+  const bool given = time_scale > 0.0;
+  if (given) {
+    t *= time_scale;
+    for (Eigen::Index i = 0; i < t.size(); ++i) {
+      if (!std::isfinite(t[i]) || (i > 0 && !(t[i] > t[i - 1]))) {
+        throw CsvError(where + ": stamp " + std::to_string(i + 1) + " times --time-scale " + ShortestText(time_scale) + " is " +
+                       ShortestText(t[i]) + (std::isfinite(t[i]) ? ", not after the previous one" : ", not finite"));
+      }
+    }
+  }
+  if (t.size() < 2) return;  // no step to judge
+  const double step = MedianStep(t);
+  if (given) {
+    if (step < kSmallestStep || step > kLargestStep) {
+      throw CsvError(where + ": median time step " + ShortNumber(step) + " s after --time-scale " + ShortestText(time_scale) +
+                     ", outside the sampling periods of real logs (1e-05 to 1 s); check --time-scale (1e-3 for ms, "
+                     "1e-6 for us, 1e-9 for ns)");
+    }
+    return;
+  }
+  const bool integers = (t.array() == t.array().floor()).all();
+  if (step >= kSmallestStep && step <= kLargestStep && !integers) return;
+  std::string seen = "median step " + ShortNumber(step);
+  if (step < kSmallestStep) seen += " (as seconds, faster than 100 kHz)";
+  if (step > kLargestStep) seen += " (as seconds, slower than 1 Hz)";
+  if (integers) seen += ", every stamp an integer";
+  throw CsvError(where + ": the time stamps do not look like seconds: " + seen + "; " +
+                 (step < kSmallestStep ? std::string("give --time-scale with the factor that converts them to seconds")
+                                       : TimeScaleSuggestion(step)));
+}
+
 JointSamples ParseJointCsv(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,
                            const JointCsvOptions& options, JointCsvReport* report) {
   CheckJointNames(joint_names);
+  if (!(options.time_scale >= 0.0) || !std::isfinite(options.time_scale)) {
+    throw std::invalid_argument("joint CSV: the time scale (--time-scale) must be a positive finite number, or 0 for "
+                                "seconds; got " + ShortestText(options.time_scale));
+  }
   const std::string text = ReadAll(in, source_name);
   JointCsvReport local;
   if (report) *report = JointCsvReport{};

@@ -150,7 +150,7 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
       if (count > 0) result.counters.rejected[reason] += count;
     }
   } else if (EndsWith(path, ".csv")) {
-    const JointSamples log = ReadJointCsv(path, model.dof_names());
+    const JointSamples log = ReadJointCsv(path, model.dof_names(), options.csv);
     JointSample s;
     for (int i = 0; i < log.size(); ++i) {
       CopySample(log, i, &s);

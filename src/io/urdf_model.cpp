@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "inertial/inertia/consistency.hpp"
+#include "urdf_effects.hpp"
 #include "xml_error.hpp"
 
 namespace inertial {
@@ -194,6 +195,14 @@ int RobotModel::BodyIndex(const std::string& link) const {
   return it == placements.end() ? -1 : it->second.body;
 }
 
+std::vector<EffectSpec> RobotModel::DeclaredEffects() const {
+  std::vector<EffectSpec> specs;
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    if (effect_declared[k]) specs.push_back(effects[k].spec);
+  }
+  return specs;
+}
+
 SpatialTransform RobotModel::LinkInBody(const std::string& link) const {
   const auto it = placements.find(link);
   if (it == placements.end()) {
@@ -296,6 +305,10 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
     model.body_has_inertial.push_back(body.has_inertial);
     model.dof_names.push_back(body.joint.name);
   }
+
+  tinyxml2::XMLDocument doc;
+  doc.Parse(xml.c_str(), xml.size());  // parsed once already by ReadFileOrder
+  model.effects = detail::ReadModelEffects(*doc.RootElement(), src, model.dof_names, &model.effect_declared);
   return model;
 }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "urdf_effects.hpp"
 #include "xml_error.hpp"
 
 namespace inertial {
@@ -18,13 +19,7 @@ namespace {
 
 constexpr const char* kNotePrefix = " Written by inertial";
 
-std::string Number(double value) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
-
-std::string Triple(const Vector3& v) { return Number(v.x()) + " " + Number(v.y()) + " " + Number(v.z()); }
+std::string Number(double value) { return detail::XmlNumber(value); }
 
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
@@ -32,11 +27,7 @@ std::string Join(const std::vector<std::string>& items) {
   return out;
 }
 
-// XML comments may not contain "--".
-std::string CommentSafe(std::string text) {
-  for (std::size_t k = text.find("--"); k != std::string::npos; k = text.find("--", k)) text.replace(k, 2, "- -");
-  return text;
-}
+using detail::CommentSafe;
 
 std::map<std::string, tinyxml2::XMLElement*> ChildrenByName(tinyxml2::XMLElement* robot, const char* tag) {
   std::map<std::string, tinyxml2::XMLElement*> out;
@@ -62,30 +53,10 @@ std::vector<std::string> Keys(const std::map<std::string, InertialParams>& m) {
   return keys;
 }
 
-void FillInertial(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* inertial, const InertialParams& pi) {
-  const double m = pi.mass();
-  const Vector3 c = m != 0.0 ? pi.com() : Vector3::Zero();
-  const Matrix3 I = m != 0.0 ? pi.rotational_inertia_about_com() : pi.rotational_inertia_about_origin();
-  tinyxml2::XMLElement* origin = doc.NewElement("origin");
-  origin->SetAttribute("xyz", Triple(c).c_str());
-  origin->SetAttribute("rpy", "0 0 0");
-  inertial->InsertEndChild(origin);
-  tinyxml2::XMLElement* mass = doc.NewElement("mass");
-  mass->SetAttribute("value", Number(m).c_str());
-  inertial->InsertEndChild(mass);
-  tinyxml2::XMLElement* inertia = doc.NewElement("inertia");
-  inertia->SetAttribute("ixx", Number(I(0, 0)).c_str());
-  inertia->SetAttribute("ixy", Number(I(0, 1)).c_str());
-  inertia->SetAttribute("ixz", Number(I(0, 2)).c_str());
-  inertia->SetAttribute("iyy", Number(I(1, 1)).c_str());
-  inertia->SetAttribute("iyz", Number(I(1, 2)).c_str());
-  inertia->SetAttribute("izz", Number(I(2, 2)).c_str());
-  inertial->InsertEndChild(inertia);
-}
-
-std::string ChangeSummary(const std::map<std::string, InertialParams>& new_inertias,
-                          const std::set<std::string>& removed_inertials,
-                          const std::map<std::string, JointDynamics>& dynamics, const std::string& in_path) {
+std::string ChangeSummary(const UrdfModelChanges& changes, const std::map<std::string, JointDynamics>& dynamics,
+                          const std::string& in_path) {
+  const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
+  const std::set<std::string>& removed_inertials = changes.removed_inertials;
   std::vector<std::string> parts;
   if (!new_inertias.empty()) parts.push_back("new <inertial> for links " + Join(Keys(new_inertias)));
   if (!removed_inertials.empty()) {
@@ -97,18 +68,26 @@ std::string ChangeSummary(const std::map<std::string, InertialParams>& new_inert
     for (const auto& kv : dynamics) joints.push_back(kv.first);
     parts.push_back("<dynamics> set for joints " + Join(joints));
   }
+  if (changes.effects) {
+    std::vector<std::string> names;
+    for (const ModelEffect& m : *changes.effects) names.push_back(std::string(ToString(m.spec.kind)) + "@" + m.spec.target);
+    parts.push_back(names.empty() ? "no effects (<dynamics> zeroed)"
+                                  : "effects " + Join(names) + " (<dynamics> and <inertial_effects>)");
+  }
   if (parts.empty()) parts.push_back("nothing changed");
-  std::string summary = kNotePrefix + (" from " + in_path + ": ");
+  std::string summary = kNotePrefix + (" from " + in_path + (changes.origin.empty() ? "" : ", " + changes.origin) + ": ");
   for (std::size_t k = 0; k < parts.size(); ++k) summary += (k ? "; " : "") + parts[k];
   return CommentSafe(summary + ". Everything else is as in the original. ");
 }
 
 }  // namespace
 
-void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_path,
-                           const std::map<std::string, InertialParams>& new_inertias,
-                           const std::set<std::string>& removed_inertials,
-                           const std::map<std::string, JointDynamics>& dynamics) {
+namespace {
+
+void WriteChanges(const std::string& in_path, const std::string& out_path, const UrdfModelChanges& changes,
+                  const std::map<std::string, JointDynamics>& dynamics) {
+  const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
+  const std::set<std::string>& removed_inertials = changes.removed_inertials;
   std::error_code ec;
   if (std::filesystem::is_directory(in_path, ec)) throw UrdfError(in_path + ": cannot read the file: it is a directory");
   std::ifstream in(in_path, std::ios::binary);
@@ -157,7 +136,9 @@ void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_pa
       inertial = doc.NewElement("inertial");
       link->InsertFirstChild(inertial);
     }
-    FillInertial(doc, inertial, pi);
+    detail::FillInertialElement(doc, inertial, pi);
+    const auto note = changes.notes.find(link_name);
+    if (note != changes.notes.end()) inertial->InsertFirstChild(doc.NewComment(CommentSafe(" " + note->second + " ").c_str()));
   }
   for (const std::string& link_name : removed_inertials) {
     tinyxml2::XMLElement* link = links.at(link_name);
@@ -174,6 +155,8 @@ void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_pa
     element->SetAttribute("friction", Number(d.friction).c_str());
   }
 
+  if (changes.effects) detail::WriteModelEffects(doc, robot, *changes.effects, changes.notes, in_path);
+
   // One note of ours at the top: an earlier one (the file was written by inertial before) is replaced.
   for (tinyxml2::XMLNode* node = doc.FirstChild(); node != nullptr;) {
     tinyxml2::XMLNode* next = node->NextSibling();
@@ -182,7 +165,7 @@ void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_pa
     }
     node = next;
   }
-  tinyxml2::XMLComment* comment = doc.NewComment(ChangeSummary(new_inertias, removed_inertials, dynamics, in_path).c_str());
+  tinyxml2::XMLComment* comment = doc.NewComment(ChangeSummary(changes, dynamics, in_path).c_str());
   tinyxml2::XMLNode* first = doc.FirstChild();
   if (first != nullptr && first->ToDeclaration() != nullptr) {
     doc.InsertAfterChild(first, comment);
@@ -192,11 +175,40 @@ void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_pa
 
   tinyxml2::XMLPrinter printer;
   doc.Print(&printer);
-  std::ofstream out(out_path, std::ios::binary | std::ios::trunc);
-  if (!out) throw UrdfError(out_path + ": cannot open the file for writing (" + std::strerror(errno) + ")");
-  out.write(printer.CStr(), static_cast<std::streamsize>(printer.CStrSize() - 1));
-  out.close();
-  if (!out) throw UrdfError(out_path + ": cannot write the file");
+  // A temporary file beside the target, renamed over it: never half a file, even on a signal.
+  const std::string temporary = out_path + ".tmp-inertial";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw UrdfError(out_path + ": cannot open the file for writing (" + std::strerror(errno) + ")");
+    out.write(printer.CStr(), static_cast<std::streamsize>(printer.CStrSize() - 1));
+    out.close();
+    if (!out) {
+      std::remove(temporary.c_str());
+      throw UrdfError(out_path + ": cannot write the file");
+    }
+  }
+  std::error_code rename_error;
+  std::filesystem::rename(temporary, out_path, rename_error);
+  if (rename_error) {
+    std::remove(temporary.c_str());
+    throw UrdfError(out_path + ": cannot write the file (" + rename_error.message() + ")");
+  }
+}
+
+}  // namespace
+
+void WriteUrdfModel(const std::string& in_path, const std::string& out_path, const UrdfModelChanges& changes) {
+  WriteChanges(in_path, out_path, changes, {});
+}
+
+void WriteUrdfWithInertias(const std::string& in_path, const std::string& out_path,
+                           const std::map<std::string, InertialParams>& new_inertias,
+                           const std::set<std::string>& removed_inertials,
+                           const std::map<std::string, JointDynamics>& dynamics) {
+  UrdfModelChanges changes;
+  changes.inertias = new_inertias;
+  changes.removed_inertials = removed_inertials;
+  WriteChanges(in_path, out_path, changes, dynamics);
 }
 
 }  // namespace inertial

@@ -55,6 +55,11 @@ std::string_view ToString(EffectKind kind) {
   return "unknown";
 }
 
+int NumEffectValues(EffectKind kind) {
+  if (!IsJointEffect(kind)) return 0;
+  return kind == EffectKind::kSpring ? 2 : 1;
+}
+
 bool IsJointEffect(EffectKind kind) { return kind != EffectKind::kPayload && kind != EffectKind::kRotor; }
 
 std::vector<EffectSpec> ParseEffectList(std::string_view text) {

@@ -62,7 +62,8 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
       throw std::invalid_argument("effect '" + e.text + "': joint '" + e.target + "' is not revolute");
     }
     const double m = e.mass > 0 ? e.mass : 0.3, r = e.radius > 0 ? e.radius : 0.04, l = e.length > 0 ? e.length : 0.03;
-    const InertialParams prior = SolidCylinder(m, r, l, Pose{RotationZTo(joint.axis), Vector3::Zero()});
+    const InertialParams prior =
+        e.inertia ? *e.inertia : SolidCylinder(m, r, l, Pose{RotationZTo(joint.axis), Vector3::Zero()});
     tree_.AddRotor(joint.name, links.parent(child), joint, prior, dof, e.gear_ratio);
   }
   for (int b = 0; b < tree_.num_bodies(); ++b) {
@@ -82,7 +83,8 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
     }
     if (!payload_links.insert(e.target).second) throw std::invalid_argument("effect '" + e.text + "': a second payload on '" + e.target + "'");
     const double m = e.mass > 0 ? e.mass : 0.5, r = e.radius > 0 ? e.radius : 0.05;
-    const InertialParams prior = SolidSphere(m, r).Transformed(where.link_in_body.R_AB, where.link_in_body.p_AB);
+    const InertialParams prior =
+        (e.inertia ? *e.inertia : SolidSphere(m, r)).Transformed(where.link_in_body.R_AB, where.link_in_body.p_AB);
     bodies_.push_back(EstimatedBody{"payload@" + e.target, where.body, prior, LogCholeskyParameterization(prior),
                                     where.link_in_body});
   }
@@ -247,6 +249,35 @@ Eigen::VectorXd RobotDynamics::ParametersFromEffectCoefficients(const Eigen::Vec
     } else if (NonNegative(t.kind)) {
       x[p] = std::log(std::max(c[f], floor));
     }
+  }
+  return x;
+}
+
+Eigen::VectorXd RobotDynamics::ParametersFromEffectValues(const std::vector<ModelEffect>& effects) const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(num_parameters_);
+  for (const EffectTerm& t : effects_) {
+    const std::string name = std::string(ToString(t.kind)) + "@" + t.joint;
+    const ModelEffect* found = nullptr;
+    for (const ModelEffect& e : effects) {
+      if (e.spec.kind == t.kind && (e.spec.target == t.joint || e.spec.target.empty())) found = &e;
+    }
+    if (found == nullptr) throw std::invalid_argument("robot dynamics: no coefficients given for " + name);
+    const std::vector<double>& v = found->values;
+    if (static_cast<int>(v.size()) != t.size()) {
+      throw std::invalid_argument("robot dynamics: " + name + " needs " + std::to_string(t.size()) + " coefficients, " +
+                                  std::to_string(v.size()) + " given");
+    }
+    for (double value : v) {
+      if (!std::isfinite(value)) throw std::invalid_argument("robot dynamics: a coefficient of " + name + " is not finite");
+    }
+    const int p = t.first_parameter;
+    if (t.kind == EffectKind::kOffset) {
+      x[p] = v[0];
+      continue;
+    }
+    if (v[0] < 0.0) throw std::invalid_argument("robot dynamics: the coefficient of " + name + " must be >= 0");
+    x[p] = std::log(std::max(v[0], 1e-300));
+    if (t.kind == EffectKind::kSpring) x[p + 1] = v[1];
   }
   return x;
 }

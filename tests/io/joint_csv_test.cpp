@@ -1,4 +1,5 @@
 #include "inertial/io/joint_csv.hpp"
+#include "inertial/io/body_csv.hpp"
 
 #include <gtest/gtest.h>
 
@@ -422,6 +423,165 @@ TEST(JointCsv, LargeFileRoundTrip) {
   EXPECT_EQ(read.q, s.q);
   EXPECT_EQ(read.tau, s.tau);
   std::remove(path.c_str());
+}
+
+// Rows of kHeader at the given stamps (text as written), every other value 1.
+std::string StampedLog(const std::vector<std::string>& stamps) {
+  std::string text = kHeader;
+  for (const std::string& t : stamps) text += t + ",1,2,3,4,5,6,7,8\n";
+  return text;
+}
+
+std::vector<std::string> Stamps(double start, double step, int count, const char* format = "%.17g") {
+  std::vector<std::string> out;
+  char cell[64];
+  for (int i = 0; i < count; ++i) {
+    std::snprintf(cell, sizeof(cell), format, start + step * i);
+    out.push_back(cell);
+  }
+  return out;
+}
+
+TEST(JointCsv, ReportsTheFileLineOfEverySample) {
+  const std::string text = std::string(kHeader) +
+                           "0,1,2,3,4,5,6,7,8\n"        // line 2
+                           "\n"                         // 3: blank
+                           "0,1,2,3,4,5,6,7,8\n"        // 4: duplicate, dropped
+                           "0.01,1,2,3,4,5,6,7,8\n"     // 5
+                           "0.02,1,2,3,4,5,6,7\n"       // 6: bad, skipped
+                           "0.03,1,2,3,4,5,6,7,8\n";    // 7
+  JointCsvOptions options;
+  options.skip_bad_rows = true;
+  JointCsvReport report;
+  const JointSamples s = Parse(text, options, &report);
+  ASSERT_EQ(s.size(), 3);
+  EXPECT_EQ(report.lines, (std::vector<int>{2, 5, 7}));
+}
+
+// Milliseconds (a ROS export at 1 kHz), microseconds and nanoseconds are refused as seconds, with
+// the median step seen and the factor that would make them a plausible sampling period.
+TEST(JointCsv, TimeStampsThatAreNotSecondsAreRefused) {
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(1700000000123.0, 1.0, 5))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 1, every stamp an integer; if "
+            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)");
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(1000.0, 2.0, 5))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 2 (as seconds, slower than 1 Hz), "
+            "every stamp an integer; if they are milliseconds, give --time-scale 1e-3 (a median step of 0.002 s)");
+  // Milliseconds with fractions at 100 Hz: not integers, but a 10 s step.
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(0.5, 10.0, 5))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 10 (as seconds, slower than 1 Hz); "
+            "if they are milliseconds, give --time-scale 1e-3 (a median step of 0.01 s)");
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(5e6, 2000.0, 5))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 2000 (as seconds, slower than 1 "
+            "Hz), every stamp an integer; if they are microseconds, give --time-scale 1e-6 (a median step of 0.002 s)");
+  // Nanoseconds at 1 kHz, from the start of the recording and since the epoch (where doubles
+  // resolve 256 ns, so the steps read 999936 or 1000192).
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(0.0, 1e6, 6, "%.0f"))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 1e+06 (as seconds, slower than 1 "
+            "Hz), every stamp an integer; if they are nanoseconds, give --time-scale 1e-9 (a median step of 0.001 s)");
+  const std::string epoch = ErrorOf(StampedLog({"1700000000000000000", "1700000000001000000", "1700000000002000000",
+                                                "1700000000003000100", "1700000000004000000"}));
+  EXPECT_TRUE(Contains(epoch, "every stamp an integer; if they are nanoseconds, give --time-scale 1e-9 (a median step of ")) << epoch;
+  // Steps no factor makes plausible, and steps too small for seconds.
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(0.0, 1e12, 4))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 1e+12 (as seconds, slower than 1 "
+            "Hz), every stamp an integer; give --time-scale with the factor that converts them to seconds (1e-3 for ms, "
+            "1e-6 for us, 1e-9 for ns)");
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(0.5, 1e-6, 4))),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 1e-06 (as seconds, faster than "
+            "100 kHz); give --time-scale with the factor that converts them to seconds");
+  // Whole seconds (1 Hz) are not a robot log either: integers.
+  EXPECT_EQ(ErrorOf(StampedLog({"0", "1", "2"})),
+            "log.csv: column 1 't': the time stamps do not look like seconds: median step 1, every stamp an integer; if "
+            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)");
+  // The same with the time in another column.
+  const std::string moved = "q_j1,q_j2,qd_j1,qd_j2,qdd_j1,qdd_j2,tau_j1,tau_j2,t\n1,2,3,4,5,6,7,8,0\n1,2,3,4,5,6,7,8,1\n";
+  EXPECT_TRUE(Contains(ErrorOf(moved), "log.csv: column 9 't': the time stamps do not look like seconds: median step 1")) << ErrorOf(moved);
+}
+
+TEST(JointCsv, PlausibleSecondsAreAccepted) {
+  // 1 kHz from an epoch, 10 kHz, 1 Hz with fractions, one row; the median ignores a few long gaps.
+  for (const std::vector<std::string>& stamps :
+       {Stamps(1700000000.001, 1e-3, 5), Stamps(0.0, 1e-4, 5), Stamps(0.5, 1.0, 4), std::vector<std::string>{"3"},
+        std::vector<std::string>{"0.001", "0.002", "7", "8", "8.001", "8.002", "8.003"}}) {
+    const JointSamples s = Parse(StampedLog(stamps));
+    EXPECT_EQ(s.size(), static_cast<int>(stamps.size()));
+  }
+}
+
+TEST(JointCsv, TimeScaleConvertsStampsBeforeDifferentiation) {
+  // Milliseconds at 200 Hz with jitter: the same log as in seconds once scaled by 1e-3, derived
+  // velocities included (they use t).
+  const SineLog log = MakeSineLog(300, 27);
+  SineLog ms = log;
+  ms.t = log.t * 1e3;
+  JointCsvOptions options;
+  options.time_scale = 1e-3;
+  const JointSamples seconds = Parse(log.Csv(false, false, false));
+  const JointSamples scaled = Parse(ms.Csv(false, false, false), options);
+  ASSERT_EQ(scaled.size(), 300);
+  EXPECT_LT((scaled.t - seconds.t).cwiseAbs().maxCoeff(), 1e-15 * log.t.cwiseAbs().maxCoeff() + 1e-18);
+  EXPECT_LT(testing::RelativeError(scaled.qd, seconds.qd), 1e-9);
+  EXPECT_LT(testing::RelativeError(scaled.qdd, seconds.qdd), 1e-9);
+  // Integer milliseconds and nanoseconds since the epoch, given their factor. Seconds since the
+  // epoch resolve 2.4e-7 s as doubles (the spacing of doubles near 1.7e9), hence the tolerances.
+  options.time_scale = 1e-3;
+  const JointSamples from_ms = Parse(StampedLog(Stamps(1700000000123.0, 1.0, 5, "%.0f")), options);
+  EXPECT_NEAR(from_ms.t[1] - from_ms.t[0], 1e-3, 5e-7);
+  EXPECT_NEAR(from_ms.t[0], 1700000000.123, 5e-7);
+  options.time_scale = 1e-9;
+  const JointSamples from_ns = Parse(StampedLog(Stamps(1.7e18, 2e6, 5, "%.0f")), options);
+  EXPECT_NEAR(from_ns.t[4] - from_ns.t[0], 8e-3, 5e-7);
+  options.time_scale = 1e-6;
+  const JointSamples from_us = Parse(StampedLog(Stamps(0.0, 500.0, 5, "%.0f")), options);
+  EXPECT_EQ(from_us.t[4], 2e-3);
+}
+
+TEST(JointCsv, TimeScaleThatLeavesAnImplausibleStepIsRefused) {
+  JointCsvOptions options;
+  options.time_scale = 1e-3;  // but the stamps are nanoseconds
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(1.7e18, 1e6, 5, "%.0f")), options),
+            "log.csv: column 1 't': median time step 1000 s after --time-scale 0.001, outside the sampling periods of real "
+            "logs (1e-05 to 1 s); check --time-scale (1e-3 for ms, 1e-6 for us, 1e-9 for ns)");
+  options.time_scale = 1e-9;  // but the stamps are milliseconds
+  EXPECT_EQ(ErrorOf(StampedLog(Stamps(1000.0, 1.0, 5)), options),
+            "log.csv: column 1 't': median time step 1e-09 s after --time-scale 1e-09, outside the sampling periods of real "
+            "logs (1e-05 to 1 s); check --time-scale (1e-3 for ms, 1e-6 for us, 1e-9 for ns)");
+  options.time_scale = 1e300;
+  EXPECT_EQ(ErrorOf(StampedLog({"0.001", "1e10"}), options),
+            "log.csv: column 1 't': stamp 2 times --time-scale 1e+300 is inf, not finite");
+  options.time_scale = -1.0;
+  std::istringstream in(StampedLog({"0.001", "0.002"}));
+  EXPECT_THROW(ParseJointCsv(in, "log.csv", kJoints, options), std::invalid_argument);
+}
+
+// The single-body CSV checks its time stamps the same way.
+TEST(BodyCsv, TimeStampsThatAreNotSecondsAreRefusedOrScaled) {
+  auto body = [](const std::vector<std::string>& stamps) {
+    std::string text = "wx,wy,wz,vx,vy,vz,mx,my,mz,fx,fy,fz,t\n";
+    for (const std::string& t : stamps) text += "0.1,0.2,0.3,0,0,0,0,0,0,0,0,-9.81," + t + "\n";
+    return text;
+  };
+  {
+    std::istringstream in(body(Stamps(1700000000000.0, 10.0, 4, "%.0f")));
+    try {
+      ParseBodyCsv(in, "body.csv");
+      ADD_FAILURE() << "no error";
+    } catch (const CsvError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "body.csv: column 13 't': the time stamps do not look like seconds: median step 10 (as seconds, slower "
+                "than 1 Hz), every stamp an integer; if they are milliseconds, give --time-scale 1e-3 (a median step of "
+                "0.01 s)");
+    }
+  }
+  std::istringstream in(body(Stamps(1700000000000.0, 10.0, 4, "%.0f")));
+  const BodyLog log = ParseBodyCsv(in, "body.csv", nullptr, 1e-3);
+  ASSERT_EQ(log.samples.size(), 4u);
+  EXPECT_NEAR(log.samples[3].t - log.samples[0].t, 0.03, 5e-7);  // doubles near 1.7e9 s: 2.4e-7 s apart
+  std::istringstream seconds(body(Stamps(0.0, 0.1, 4)));
+  EXPECT_EQ(ParseBodyCsv(seconds, "body.csv").samples[1].t, 0.1);
+  std::istringstream negative(body(Stamps(0.0, 0.1, 4)));
+  EXPECT_THROW(ParseBodyCsv(negative, "body.csv", nullptr, -1e-3), std::invalid_argument);
 }
 
 TEST(JointCsv, ReadsTheKukaMeasurements) {

@@ -36,7 +36,9 @@ CLI::App* AddConvertCommand(CLI::App& app, ConvertCommand* command);
 int RunConvertCommand(const ConvertCommand& command);
 
 struct IdentifyCommand {
-  std::string model, data, validate, effects, predictions, write_urdf;
+  std::string model, data, validate, effects, predictions, write_urdf, time_scale;
+  std::string outlier_threshold = "0";
+  bool no_outlier_rejection = false;
   std::string prior_weight = "0.01";
   std::string max_iterations = "1000";
   std::string gravity = "0 0 -9.81";
@@ -56,7 +58,7 @@ CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* command);
 int RunCheckCommand(const CheckCommand& command);
 
 struct SimulateCommand {
-  std::string model, out, effects, truth;
+  std::string model, out, effects, truth, truth_urdf;
   std::string effect_values = "0.1";
   std::string perturb = "0", duration = "20", rate = "500", harmonics = "5", base_frequency = "0.1";
   std::string amplitude = "0.9", noise_q = "0", noise_qd = "0", noise_tau = "0", seed = "1", truth_seed = "1";
@@ -85,11 +87,25 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);
 int RunDiagnoseCommand(const DiagnoseCommand& command);
 
 struct ReplayCommand {
-  std::string model, log, candump, can_config, effects, config, channel, out, write_log;
+  std::string model, log, candump, can_config, effects, config, channel, out, write_log, write_urdf, time_scale;
   std::string estimator = "gauss_newton", sigma = "1", period = "0.1";
   bool realtime = false;
 };
 CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* command);
 int RunReplayCommand(const ReplayCommand& command);
+
+struct ExportCommand {
+  std::string model, effects, checkpoint, write_urdf;
+};
+CLI::App* AddExportCommand(CLI::App& app, ExportCommand* command);
+int RunExportCommand(const ExportCommand& command);
+
+struct ValidateCommand {
+  std::string model, data, effects, effect_values, predictions, report_dir, pi, time_scale;
+  std::string gravity = "0 0 -9.81", sg_order = "4", sg_window = "0.1";
+  bool body = false, json = false, skip_bad_rows = false;
+};
+CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* command);
+int RunValidateCommand(const ValidateCommand& command);
 
 }  // namespace inertial::cli

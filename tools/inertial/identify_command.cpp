@@ -1,4 +1,6 @@
 // `inertial identify`: batch identification of a URDF robot from joint logs (eq. 14).
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -8,7 +10,8 @@
 #include "exit_codes.hpp"
 #include "inertial/io/identification_report.hpp"
 #include "inertial/io/joint_csv.hpp"
-#include "inertial/io/urdf_writer.hpp"
+#include "inertial/io/model_file.hpp"
+#include "inertial/io/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -39,65 +42,57 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
   sub->add_option("--predictions", c->predictions,
                   "write t and tau_hat_J for every sample of the validation data (or of the training data)");
   sub->add_option("--write-urdf", c->write_urdf,
-                  "write the URDF back with the identified inertias (viscous/coulomb as <dynamics damping friction>)");
+                  "write the identified model as a URDF: links' <inertial>, viscous/coulomb as <dynamics damping friction>, "
+                  "every other effect, rotor and payload in <inertial_effects> (validate --model reads it back)");
+  sub->add_option("--time-scale", c->time_scale,
+                  "multiply the time stamps of --data and --validate by this to get seconds (1e-3 for ms, 1e-9 for ns)");
+  sub->add_option("--outlier-threshold", c->outlier_threshold,
+                  "leave out training rows whose torque residual is beyond this many robust standard deviations "
+                  "(0: chosen from the number of residuals, at least 5)")
+      ->default_val("0");
+  sub->add_flag("--no-outlier-rejection", c->no_outlier_rejection, "fit every training row, glitches included");
   sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
   return sub;
 }
 
 namespace {
 
-// Writes the identified robot: tree bodies' inertias onto their URDF links (the inertials of links
-// merged into them removed), viscous and Coulomb coefficients as <dynamics>. Rotors, payloads and the
-// other effects have no URDF form: they are listed on stderr.
+// Writes the identified model as a model file (model_file.hpp): links, every effect, rotors and
+// payloads, so that `validate --model` of it predicts what the fit predicts.
 void WriteIdentifiedUrdf(const IdentifyCommand& c, const RobotModel& robot, const RobotDynamics& model,
-                         const Eigen::VectorXd& x) {
-  std::map<std::string, InertialParams> inertias;
-  std::set<std::string> removed;
-  std::vector<std::string> not_written;
-  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const EstimatedBody& body = model.bodies()[e];
-    if (body.tree_body < static_cast<int>(robot.body_links.size()) && body.name == robot.body_links[body.tree_body]) {
-      inertias[body.name] = model.BodyInertia(e, x);
-    } else {
-      not_written.push_back(body.name);
-    }
-  }
-  for (const UrdfLinkInertial& link : robot.links) {
-    const int b = robot.BodyIndex(link.link);
-    if (link.present && b >= 0 && robot.body_links[b] != link.link) removed.insert(link.link);
-  }
-  std::map<std::string, JointDynamics> dynamics;
-  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-    const EffectTerm& t = model.effects()[k];
-    if (t.kind == EffectKind::kViscous) {
-      dynamics[t.joint].damping = model.EffectValues(k, x)[0];
-    } else if (t.kind == EffectKind::kCoulomb) {
-      dynamics[t.joint].friction = model.EffectValues(k, x)[0];
-    } else {
-      not_written.push_back(std::string(ToString(t.kind)) + "@" + t.joint);
-    }
-  }
-  WriteUrdfWithInertias(c.model, c.write_urdf, inertias, removed, dynamics);
-  std::cerr << "wrote " << c.write_urdf << ": " << inertias.size() << " link inertias";
-  if (!removed.empty()) std::cerr << " (the inertials of " << removed.size() << " merged links moved into them)";
-  std::cerr << ", " << dynamics.size() << " joint <dynamics>\n";
-  if (!not_written.empty()) {
-    std::cerr << "note: URDF cannot hold";
-    for (const std::string& n : not_written) std::cerr << " " << n;
-    std::cerr << "; they are in the report only\n";
-  }
+                         const IdentificationRun& run) {
+  ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
+  if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
+  WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + c.data);
+  std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()
+            << " joint effect terms\n";
 }
 
 }  // namespace
 
 int RunIdentifyCommand(const IdentifyCommand& c) {
+  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--write-urdf", c.write_urdf}},
+                                       {{"--model", c.model}, {"--data", c.data}, {"--validate", c.validate}});
+  if (status != kOk) return status;
   JointIdentificationOptions options;
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;
-  int status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options.prior_weight);
+  status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options.prior_weight);
   if (status == kOk) status = ParseInteger(c.max_iterations, "--max-iterations", 1, 100000, &options.lm.max_iterations);
   if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv.differentiation.order);
   if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
+  if (status == kOk && !c.time_scale.empty()) {
+    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &csv.time_scale);
+  }
+  OutlierOptions outliers;
+  outliers.enabled = !c.no_outlier_rejection;
+  if (status == kOk) status = ParseRealOption(c.outlier_threshold, "--outlier-threshold", 0.0, 1e6, &outliers.threshold);
+  if (status == kOk && outliers.threshold > 0 && outliers.threshold < 3) {
+    std::cerr << "Error: --outlier-threshold: " << c.outlier_threshold
+              << " robust standard deviations would leave out good rows (a Gaussian residual exceeds 3 once in 370); "
+                 "give 3 or more, or 0 for the automatic choice\n";
+    status = kUsage;
+  }
   if (status != kOk) return status;
   Vector3 gravity;
   status = ParseGravityOption(c.gravity, &gravity);
@@ -108,7 +103,8 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
   if (status != kOk) return status;
   JointSamples train, validation;
-  status = ReadRobotLog(c.data, robot, csv, &train);
+  std::vector<int> train_lines;
+  status = ReadRobotLog(c.data, robot, csv, &train, &train_lines);
   if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
   if (status != kOk) return status;
   if (train.size() < 2) {
@@ -116,8 +112,34 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
     return kInvalidValue;
   }
 
-  const IdentificationRun run =
-      RunIdentification(*model, train, c.validate.empty() ? nullptr : &validation, options);
+  IdentificationRun run;
+  try {
+    run = RunIdentification(*model, train, c.validate.empty() ? nullptr : &validation, options, outliers);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  // Rejected rows named by their line in the file.
+  for (std::string& reason : run.outliers.reasons) {
+    const std::size_t at = reason.find("sample ");
+    if (at == std::string::npos) continue;
+    const int i = std::atoi(reason.c_str() + at + 7);
+    if (i >= 0 && i < static_cast<int>(train_lines.size())) reason = c.data + ":" + std::to_string(train_lines[i]) + ": " + reason;
+  }
+  if (run.failed()) {
+    std::cerr << "Error: " << c.data << ": the fit failed numerically (stopped on " << ToString(run.fit.lm.reason)
+              << (std::isfinite(run.fit.data_cost) ? "" : ", non-finite cost") << ")";
+    const std::vector<std::string> extremes = DescribeExtremeValues(train);
+    if (extremes.empty()) {
+      std::cerr << "; no value of the data stands out: check units (--time-scale) and the model\n";
+    } else {
+      std::cerr << ": the data hold values no sensor reading can have:\n";
+      for (const std::string& e : extremes) std::cerr << "  " << e << "\n";
+      std::cerr << (c.no_outlier_rejection ? "hint: without --no-outlier-rejection such rows are left out\n"
+                                           : "hint: fix or remove these rows (--skip-bad-rows skips malformed ones)\n");
+    }
+    return kInvalidValue;
+  }
   if (c.json) {
     std::cout << IdentificationJson(*model, run).dump(2) << "\n";
   } else {
@@ -133,7 +155,7 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
       for (const std::string& j : model->dof_names()) header.push_back("tau_hat_" + j);
       WriteColumnsCsv(c.predictions, header, columns);
     }
-    if (!c.write_urdf.empty()) WriteIdentifiedUrdf(c, robot, *model, run.fit.x);
+    if (!c.write_urdf.empty()) WriteIdentifiedUrdf(c, robot, *model, run);
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;

@@ -25,6 +25,10 @@ int main(int argc, char** argv) {
   CLI::App* replay_app = AddReplayCommand(app, &replay);
   DiagnoseCommand diagnose;
   CLI::App* diagnose_app = AddDiagnoseCommand(app, &diagnose);
+  ExportCommand export_command;
+  CLI::App* export_app = AddExportCommand(app, &export_command);
+  ValidateCommand validate;
+  CLI::App* validate_app = AddValidateCommand(app, &validate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -43,6 +47,8 @@ int main(int argc, char** argv) {
     if (simulate_app->parsed()) return RunSimulateCommand(simulate);
     if (diagnose_app->parsed()) return RunDiagnoseCommand(diagnose);
     if (replay_app->parsed()) return RunReplayCommand(replay);
+    if (validate_app->parsed()) return RunValidateCommand(validate);
+    if (export_app->parsed()) return RunExportCommand(export_command);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;

@@ -4,9 +4,12 @@
 #pragma once
 
 #include <charconv>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "exit_codes.hpp"
 #include "inertial/io/number_parsing.hpp"
@@ -53,6 +56,37 @@ inline int ParseRealOption(const std::string& text, const char* option, double l
     return kUsage;
   }
   *out = value;
+  return kOk;
+}
+
+// True if the two paths name the same file (also through another spelling or a link).
+inline bool SameFile(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
+  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+}
+
+// An output (option, path) must not name an input (option, path), nor another output: kUsage with
+// the error printed, else kOk. Empty paths are not given and are skipped.
+using PathOption = std::pair<const char*, std::string>;
+inline int RefuseOverwritingInputs(const std::vector<PathOption>& outputs, const std::vector<PathOption>& inputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [out_option, out] = outputs[i];
+    if (out.empty()) continue;
+    for (const auto& [in_option, in] : inputs) {
+      if (!in.empty() && SameFile(out, in)) {
+        std::cerr << "Error: " << out_option << " '" << out << "' is the " << in_option
+                  << " input: refusing to overwrite an input (choose another output path)\n";
+        return kUsage;
+      }
+    }
+    for (std::size_t k = i + 1; k < outputs.size(); ++k) {
+      if (!outputs[k].second.empty() && SameFile(out, outputs[k].second)) {
+        std::cerr << "Error: " << out_option << " and " << outputs[k].first << " name the same file '" << out << "'\n";
+        return kUsage;
+      }
+    }
+  }
   return kOk;
 }
 

@@ -6,6 +6,8 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "inertial/io/log_replay.hpp"
+#include "inertial/io/model_file.hpp"
+#include "inertial/io/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -26,14 +28,22 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   sub->add_option("--config", c->config, "inertiald's JSON config (its channel and message format are used)");
   sub->add_option("--out", c->out, "estimates as CSV: t, counts, per body mass and COM, effects, residuals");
   sub->add_option("--write-log", c->write_log, "estimates as an LCM log of inertial.estimate_t");
+  sub->add_option("--write-urdf", c->write_urdf,
+                  "the final estimate as a model file (URDF with links, effects, rotors, payloads) for validate --model");
   sub->add_option("--estimator", c->estimator, "gauss_newton, gradient or linear_rls")->default_val("gauss_newton");
   sub->add_option("--sigma", c->sigma, "torque measurement standard deviation [N m]")->default_val("1");
   sub->add_option("--period", c->period, "seconds of log time between estimate rows")->default_val("0.1");
+  sub->add_option("--time-scale", c->time_scale,
+                  "joint CSV logs: multiply the time stamps by this to get seconds (1e-3 for ms, 1e-9 for ns)");
   sub->add_flag("--realtime", c->realtime, "follow the log's time stamps instead of running as fast as possible");
   return sub;
 }
 
 int RunReplayCommand(const ReplayCommand& c) {
+  int status = RefuseOverwritingInputs(
+      {{"--out", c.out}, {"--write-log", c.write_log}, {"--write-urdf", c.write_urdf}},
+      {{"--model", c.model}, {"--log", c.log}, {"--candump", c.candump}, {"--can-config", c.can_config}, {"--config", c.config}});
+  if (status != kOk) return status;
   OnlineEstimatorOptions estimator_options;
   ReplayOptions options;
   if (c.log.empty() == c.candump.empty()) {
@@ -56,8 +66,11 @@ int RunReplayCommand(const ReplayCommand& c) {
     }
   }
   const std::string& path = c.candump.empty() ? c.log : c.candump;
-  int status = ParseRealOption(c.sigma, "--sigma", 1e-12, 1e12, &estimator_options.measurement_sigma);
+  status = ParseRealOption(c.sigma, "--sigma", 1e-12, 1e12, &estimator_options.measurement_sigma);
   if (status == kOk) status = ParseRealOption(c.period, "--period", 1e-9, 1e9, &options.estimate_period_s);
+  if (status == kOk && !c.time_scale.empty()) {
+    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &options.csv.time_scale);
+  }
   if (status != kOk) return status;
   try {
     estimator_options.kind = ParseEstimatorKind(c.estimator);
@@ -117,11 +130,31 @@ int RunReplayCommand(const ReplayCommand& c) {
   }
   std::cout << "\nthroughput: " << static_cast<long long>(r.samples_per_second) << " samples/s (" << r.seconds
             << " s)\n";
-  std::cout << "final estimate:\n";
+  const std::optional<ModelUncertainty> uncertainty = FromOnlineEstimator(estimator);
+  std::cout << "final estimate" << (uncertainty ? " (+- one standard deviation " + uncertainty->source + ")" : "") << ":\n";
   for (int e = 0; e < static_cast<int>(model->bodies().size()); ++e) {
     const InertialParams b = estimator.Body(e);
-    std::cout << "  " << model->bodies()[e].name << ": mass " << b.mass() << " kg, COM [" << b.com().transpose()
-              << "] m\n";
+    if (uncertainty) {
+      std::cout << "  " << model->bodies()[e].name << ": " << BodyUncertaintyText(b, uncertainty->bodies[e], nullptr)
+                << "\n";
+    } else {
+      std::cout << "  " << model->bodies()[e].name << ": mass " << b.mass() << " kg, COM [" << b.com().transpose()
+                << "] m\n";
+    }
+  }
+  if (!c.write_urdf.empty()) {
+    try {
+      WriteModelUrdf(c.model, c.write_urdf, robot, *model, SnapshotWithUncertainty(estimator),
+                     "the online estimate after replaying " + path + " (" + std::to_string(r.counters.accepted) +
+                         " samples, " + std::string(ToString(estimator.kind())) + ")");
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --write-urdf: " << e.what() << "\n";
+      return kInconsistentBody;
+    } catch (const UrdfError& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kIoError;
+    }
+    std::cerr << "wrote " << c.write_urdf << ": the final estimate as a model file\n";
   }
   if (!c.out.empty()) std::cerr << "wrote " << c.out << ": " << r.estimate_rows << " rows\n";
   if (!c.write_log.empty()) std::cerr << "wrote " << c.write_log << ": " << r.estimate_rows << " estimates\n";

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "exit_codes.hpp"
+#include "inertial/io/model_file.hpp"
 #include "inertial/io/number_parsing.hpp"
 
 namespace inertial::cli {
@@ -22,14 +23,7 @@ int ParseGravityOption(const std::string& text, Vector3* gravity) {
   return kOk;
 }
 
-int LoadRobot(const std::string& urdf, const std::string& effects_text, const Vector3& gravity, RobotModel* robot,
-              std::vector<EffectSpec>* effects, std::optional<RobotDynamics>* model) {
-  try {
-    *effects = ParseEffectList(effects_text);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --effects: " << e.what() << "\n";
-    return kUsage;
-  }
+int LoadRobotModel(const std::string& urdf, RobotModel* robot) {
   try {
     *robot = LoadUrdf(urdf);
   } catch (const UrdfError& e) {
@@ -40,6 +34,20 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
     }
     return kIoError;
   }
+  return kOk;
+}
+
+int LoadRobot(const std::string& urdf, const std::string& effects_text, const Vector3& gravity, RobotModel* robot,
+              std::vector<EffectSpec>* effects, std::optional<RobotDynamics>* model) {
+  try {
+    *effects = ParseEffectList(effects_text);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  const int status = LoadRobotModel(urdf, robot);
+  if (status != kOk) return status;
+  *effects = MergeEffects(robot->DeclaredEffects(), *effects);
   try {
     model->emplace(MakeRobotDynamics(*robot, *effects, gravity));
   } catch (const std::invalid_argument& e) {
@@ -49,10 +57,12 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
   return kOk;
 }
 
-int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCsvOptions& csv, JointSamples* samples) {
+int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCsvOptions& csv, JointSamples* samples,
+                 std::vector<int>* lines) {
   try {
     JointCsvReport report;
     *samples = ReadJointCsv(path, robot.dof_names, csv, &report);
+    if (lines != nullptr) *lines = report.lines;
     for (const std::string& n : report.notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";

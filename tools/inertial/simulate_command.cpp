@@ -8,6 +8,7 @@
 #include <random>
 
 #include "commands.hpp"
+#include "inertial/io/model_file.hpp"
 #include "exit_codes.hpp"
 #include "inertial/io/identification_report.hpp"
 #include "inertial/io/joint_csv.hpp"
@@ -59,10 +60,17 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
   sub->add_flag("--positions-only", c->positions_only,
                 "write only t, q_J, tau_J (identify then differentiates q by Savitzky-Golay)");
   sub->add_option("--truth", c->truth, "also write the true parameters as JSON (bodies' pi, effect values)");
+  sub->add_option("--truth-urdf", c->truth_urdf,
+                  "also write the true robot as a model file (URDF with its effects: validate --model reads it)");
   return sub;
 }
 
 int RunSimulateCommand(const SimulateCommand& c) {
+  if (RefuseOverwritingInputs({{"--out", c.out}, {"--write-log", c.write_log}, {"--write-candump", c.write_candump},
+                               {"--truth", c.truth}, {"--truth-urdf", c.truth_urdf}},
+                              {{"--model", c.model}, {"--can-config", c.can_config}}) != kOk) {
+    return kUsage;
+  }
   if (c.out.empty() && c.write_log.empty() && c.write_candump.empty()) {
     std::cerr << "Error: give --out CSV, --write-log LCM and/or --write-candump LOG\n";
     return kUsage;
@@ -204,6 +212,15 @@ int RunSimulateCommand(const SimulateCommand& c) {
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
+  }
+  if (!c.truth_urdf.empty()) {
+    try {
+      WriteModelUrdf(c.model, c.truth_urdf, robot, *model, SnapshotAt(*model, x),
+                     "the true model of `inertial simulate` (--perturb " + c.perturb + ", --truth-seed " + c.truth_seed + ")");
+    } catch (const UrdfError& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kIoError;
+    }
   }
   if (!c.truth.empty()) {
     nlohmann::json j;

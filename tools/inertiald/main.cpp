@@ -3,18 +3,23 @@
 // checkpoints its state, and stops cleanly on SIGINT or SIGTERM (estimation_daemon.hpp).
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "inertial/io/estimation_daemon.hpp"
 #include "inertial/io/identification_report.hpp"
+#include "inertial/io/model_file.hpp"
+#include "inertial/io/uncertainty_report.hpp"
 #include "inertial/io/number_parsing.hpp"
 
 namespace {
 
 std::atomic<bool> g_stop{false};
+std::atomic<bool> g_write_model{false};
 
 extern "C" void OnSignal(int) { g_stop = true; }
+extern "C" void OnWriteSignal(int) { g_write_model = true; }
 
 }  // namespace
 
@@ -28,7 +33,7 @@ int main(int argc, char** argv) {
   std::string model_path, effects, config_path, lcm_url, channel, estimate_channel, residual_channel, checkpoint;
   std::string estimator = "", log_level = "", publish_rate = "", checkpoint_interval = "", sigma = "";
   bool body = false;
-  std::string prior;
+  std::string prior, write_urdf;
   app.add_option("--model", model_path, "URDF robot description (robots)");
   app.add_flag("--body", body,
                "a single body on a wrench sensor: inertial.body_wrench_t messages (default channel INERTIAL_BODY_WRENCH)");
@@ -47,6 +52,9 @@ int main(int argc, char** argv) {
   app.add_option("--publish-rate", publish_rate, "estimates per second (default 10)");
   app.add_option("--estimator", estimator, "gauss_newton (default), gradient or linear_rls");
   app.add_option("--sigma", sigma, "torque measurement standard deviation [N m] (default 1)");
+  app.add_option("--write-urdf", write_urdf,
+                 "write the current estimate as a model file (URDF: links, effects, rotors, payloads) at exit and on "
+                 "SIGUSR1, for `inertial validate --model` or as the next prior");
   app.add_option("--log-level", log_level, "error, warn, info (default) or debug");
   try {
     app.parse(argc, argv);
@@ -60,6 +68,17 @@ int main(int argc, char** argv) {
   }
   DaemonOptions options;
   if (body) options.input_channel = "INERTIAL_BODY_WRENCH";
+  if (body && !write_urdf.empty()) {
+    std::cerr << "Error: --write-urdf needs --model (a single body has no URDF; its estimate is in estimate_t)\n";
+    return 2;
+  }
+  if (!write_urdf.empty() && !model_path.empty()) {
+    std::error_code ec;
+    if (std::filesystem::exists(write_urdf, ec) && std::filesystem::equivalent(write_urdf, model_path, ec)) {
+      std::cerr << "Error: --write-urdf '" << write_urdf << "' is the --model input: refusing to overwrite an input\n";
+      return 2;
+    }
+  }
   if (can_interface.empty() != can_config.empty() || (body && !can_interface.empty())) {
     std::cerr << "Error: --can and --can-config go together, with --model\n";
     return 2;
@@ -106,6 +125,7 @@ int main(int argc, char** argv) {
   }
 
   std::unique_ptr<EstimationDaemon> daemon;
+  RobotModel robot;
   try {
     if (body) {
       Vector10 pi;
@@ -117,7 +137,7 @@ int main(int argc, char** argv) {
       }
       daemon = std::make_unique<EstimationDaemon>(InertialParams::FromVector(pi), options);
     } else if (!can_interface.empty()) {
-      const RobotModel robot = LoadUrdf(model_path);
+      robot = LoadUrdf(model_path);
       CanConfig can;
       try {
         can = LoadCanConfig(can_config);
@@ -125,11 +145,13 @@ int main(int argc, char** argv) {
         std::cerr << "Error: --can-config: " << e.what() << "\n";
         return 5;
       }
-      daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options,
-                                                  std::move(can), std::make_unique<SocketCanBus>(can_interface));
+      daemon = std::make_unique<EstimationDaemon>(
+          MakeRobotDynamics(robot, MergeEffects(robot.DeclaredEffects(), ParseEffectList(effects))), options,
+          std::move(can), std::make_unique<SocketCanBus>(can_interface));
     } else {
-      const RobotModel robot = LoadUrdf(model_path);
-      daemon = std::make_unique<EstimationDaemon>(MakeRobotDynamics(robot, ParseEffectList(effects)), options);
+      robot = LoadUrdf(model_path);
+      daemon = std::make_unique<EstimationDaemon>(
+          MakeRobotDynamics(robot, MergeEffects(robot.DeclaredEffects(), ParseEffectList(effects))), options);
     }
   } catch (const UrdfError& e) {
     std::cerr << "Error: " << e.what() << "\n";
@@ -149,5 +171,18 @@ int main(int argc, char** argv) {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  if (!write_urdf.empty()) {
+    struct sigaction write_action {};
+    write_action.sa_handler = OnWriteSignal;
+    sigemptyset(&write_action.sa_mask);
+    sigaction(SIGUSR1, &write_action, nullptr);
+    daemon->set_model_sink(
+        [&](const OnlineJointEstimator& estimator) {
+          WriteModelUrdf(model_path, write_urdf, robot, estimator.model(), SnapshotWithUncertainty(estimator),
+                         "the online estimate of inertiald (" + std::to_string(estimator.estimator().counters().accepted()) +
+                             " samples)");
+        },
+        &g_write_model);
+  }
   return daemon->Run(g_stop);
 }

@@ -33,13 +33,33 @@ struct ScalarBlock {
   int size() const { return map == ScalarMap::kSpring ? 2 : 1; }
 };
 
+/// Indices into mci = [m, cx, cy, cz, ICxx, ICyy, ICzz, ICxy, ICyz, ICxz]: mass [kg], center of
+/// mass c = h / m [m] and rotational inertia about the COM I_C [kg m^2] (entries in pi's order,
+/// ICxy the (0,1) entry of the tensor, as InertialParams::rotational_inertia_about_com()).
+namespace mci_index {
+inline constexpr int kMass = 0;
+inline constexpr int kCx = 1;   ///< cx, cy, cz at kCx .. kCx + 2
+inline constexpr int kIxx = 4;  ///< ICxx, ICyy, ICzz, ICxy, ICyz, ICxz at kIxx .. kIxx + 5
+}  // namespace mci_index
+
+/// mci(pi) (indices above) with I_C = I_O - (|h|^2 1 - h h^T) / m (parallel-axis theorem), and
+/// optionally its analytic Jacobian J_mci_pi = d(mci)/d(pi) (10 x 10):
+///   dc/dm = -h / m^2, dc/dh = 1 / m;
+///   I_C(i,j) = I_O(i,j) - (|h|^2 delta_ij - h_i h_j) / m, so dI_C(i,j)/dm = (|h|^2 delta_ij - h_i h_j) / m^2,
+///   dI_C(i,j)/dh_k = -(2 h_k delta_ij - delta_ik h_j - h_i delta_jk) / m, dI_C/dI_O = 1.
+/// Precondition: body.mass() != 0 (debug-asserted).
+Vector10 MassComInertiaAboutCom(const InertialParams& body, Matrix10* J_mci_pi = nullptr);
+
 /// Standard deviations of a body's physical quantities, from the covariance of its pi through the
 /// Jacobian of each quantity (first order): mass [kg], COM c = h / m [m] (dc/dpi = [-h/m^2, 1/m,
-/// 0]), and the rotational inertia about the frame origin [Ixx Iyy Izz Ixy Iyz Ixz] [kg m^2].
+/// 0]), the rotational inertia about the frame origin [Ixx Iyy Izz Ixy Iyz Ixz] [kg m^2], and the
+/// rotational inertia about the COM in the same order [kg m^2] (through J_mci_pi,
+/// MassComInertiaAboutCom).
 struct BodyUncertainty {
   double mass = 0.0;
   Vector3 com = Vector3::Zero();
   Vector6 inertia = Vector6::Zero();
+  Vector6 inertia_about_com = Vector6::Zero();
 };
 /// From pi and its 10 x 10 covariance. Precondition: pi's mass is positive.
 BodyUncertainty UncertaintyOf(const InertialParams& body, const Matrix10& covariance_of_pi);

@@ -37,6 +37,13 @@ struct JointDiagnosisContext {
   ResidualAnalysis residuals;      ///< of those predictions
 };
 
+/// "Where it fails (<what>)": the worst windows and each joint's residual signature, as text.
+std::string WhereItFailsText(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals,
+                             const std::string& what);
+/// {worst_windows [{t_start, t_end, rms, worst_joint}], joints {j: {rms, mean, velocity_sign_step,
+/// viscous_slope, acceleration_slope, position_slope, torque_slope, correlations, explained}}}.
+nlohmann::json WhereItFailsJson(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals);
+
 /// Fills predicted and residuals (1 s windows, the 3 worst).
 JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
                                                 const JointSamples& validation, const std::string& validation_source,

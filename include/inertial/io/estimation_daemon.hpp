@@ -94,6 +94,13 @@ class EstimationDaemon {
   /// The daemon's LCM instance (LCM publishes from any thread): with memq:// the only way in.
   lcm::LCM& lcm();
   bool restored_from_checkpoint() const { return restored_; }
+  /// Robot mode: `sink` gets the estimator at exit (after the last sample) and, while running,
+  /// whenever *request is set (it is cleared), e.g. from SIGUSR1: inertiald --write-urdf. A sink's
+  /// exception is logged; the daemon keeps running.
+  void set_model_sink(std::function<void(const OnlineJointEstimator&)> sink, std::atomic<bool>* request) {
+    model_sink_ = std::move(sink);
+    model_request_ = request;
+  }
   /// Where log lines go (default stderr).
   void set_log_sink(std::function<void(const std::string&)> sink) { log_sink_ = std::move(sink); }
 
@@ -116,12 +123,19 @@ class EstimationDaemon {
   DaemonCounters counters_;
   bool restored_ = false;
   std::function<void(const std::string&)> log_sink_;
+  std::function<void(const OnlineJointEstimator&)> model_sink_;
+  std::atomic<bool>* model_request_ = nullptr;
+  void WriteModel();
   // Residual window.
   Eigen::VectorXd window_sum_, window_rms_;
   double window_start_ = -1.0, last_t_ = 0.0;
   int window_count_ = 0;
   bool window_completed_ = false;
 };
+
+/// What a robot estimator's checkpoint says of its model ("gauss_newton estimator; joints ...;
+/// parameters ..."): a checkpoint is restored only into an estimator with the same description.
+std::string CheckpointDescription(const OnlineJointEstimator& estimator);
 
 /// The estimate message of the single-body estimator (one body `name`; channels mx .. fz).
 std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimator, const std::string& name,

@@ -5,7 +5,10 @@
 /// - The first line is a header of comma-separated column names (surrounding spaces ignored, a
 ///   UTF-8 byte-order mark tolerated); every later non-blank line is one sample with exactly as many
 ///   cells. Blank lines are ignored. LF or CRLF line ends. No quoting.
-/// - Column `t`: time in seconds, strictly increasing; non-uniform steps are fine.
+/// - Column `t`: time in seconds, strictly increasing; non-uniform steps are fine. Stamps in other
+///   units (milliseconds, nanoseconds: common in ROS exports) are converted with
+///   options.time_scale; without it, stamps that do not look like seconds are refused (see
+///   ScaleTimeStamps), before anything (Savitzky-Golay differentiation) uses them.
 /// - For each actuated joint J: `q_J` (rad or m) and `tau_J` (N m or N) required; `qd_J` and `qdd_J`
 ///   optional. SI units. Column order is free.
 /// - Other columns are ignored (one notice lists them); their cells are not parsed.
@@ -40,6 +43,9 @@ namespace inertial {
 struct JointCsvOptions {
   bool skip_bad_rows = false;                  ///< skip and count bad rows instead of rejecting the file
   SavitzkyGolayOptions differentiation;       ///< for qd / qdd derived from q
+  /// Seconds per unit of the t column (1e-3 for milliseconds, 1e-9 for nanoseconds; --time-scale),
+  /// or 0: not given, the stamps must look like seconds (ScaleTimeStamps).
+  double time_scale = 0.0;
 };
 
 struct JointCsvReport {
@@ -48,6 +54,7 @@ struct JointCsvReport {
   int duplicate_rows = 0;            ///< identical repeated rows dropped
   bool derived_qd = false;           ///< velocities computed from q
   bool derived_qdd = false;          ///< accelerations computed from q
+  std::vector<int> lines;            ///< the 1-based file line of each returned sample
 };
 
 /// A file that breaks the contract, or cannot be read or written. Message "source:line: ..." style.
@@ -55,9 +62,27 @@ struct CsvError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Time stamps that are not seconds. Sampling periods of real logs lie within 1e-5 s (100 kHz) and
+/// 1 s (1 Hz), and are rarely whole seconds:
+/// - time_scale given (> 0): t is multiplied by it; a median step outside [1e-5, 1] s afterwards is
+///   refused (naming --time-scale: a wrong factor).
+/// - time_scale 0: t is refused if its median step is below 1e-5 or above 1, or if every stamp is an
+///   integer (milliseconds at 1 kHz have a median step of 1; seconds never come as integers). The
+///   message says what was seen (the median step) and suggests --time-scale with the factor among
+///   1e-3 (ms), 1e-6 (us), 1e-9 (ns) that brings the median step into a plausible sampling period
+///   of 1e-4..1e-1 s, when there is one.
+/// Fewer than 2 stamps have no step: only scaled. `where` names the file and column in messages,
+/// e.g. "log.csv: column 1 't'". Stamps are strictly increasing on entry.
+/// Limitation: milliseconds with fractions and a median step below 1 (faster than 1 kHz) look like
+/// seconds at a slow rate and pass; only --time-scale can say otherwise.
+/// @throws CsvError as above, or if scaling makes a stamp non-finite or two stamps equal;
+///   std::invalid_argument if time_scale is negative or not finite.
+void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std::string& where);
+
 /// Reads a joint log (contract above) for the joints `joint_names` (their order sets the columns of
 /// the result). @throws CsvError as above, also if the file cannot be opened;
-/// std::invalid_argument if joint_names is empty or has duplicates.
+/// std::invalid_argument if joint_names is empty or has duplicates, or options.time_scale is
+/// negative or not finite.
 JointSamples ReadJointCsv(const std::string& path, const std::vector<std::string>& joint_names,
                           const JointCsvOptions& options = {}, JointCsvReport* report = nullptr);
 

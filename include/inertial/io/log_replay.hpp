@@ -14,6 +14,7 @@
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/io/estimation_daemon.hpp"
 #include "inertial/io/can_joint_assembler.hpp"
+#include "inertial/io/joint_csv.hpp"
 #include "inertial/io/joint_message.hpp"
 
 namespace inertial {
@@ -26,6 +27,8 @@ struct ReplayOptions {
   std::string csv_path;             ///< estimates as CSV (empty: none)
   std::string log_path;             ///< estimates as an LCM log of inertial.estimate_t (empty: none)
   std::string estimate_channel = "INERTIAL_ESTIMATE";
+  /// Joint CSV logs: how they are read (e.g. csv.time_scale for stamps in ms or ns).
+  JointCsvOptions csv;
   /// Set: the log is a candump log of these motors.
   std::optional<CanConfig> can;
 };

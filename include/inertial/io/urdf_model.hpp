@@ -26,6 +26,26 @@
 /// one of its links. With the option off, any numbers are accepted and a body without `<inertial>`
 /// gets the zero inertia.
 ///
+/// Effects (the model file). A URDF can state the model's effects with their coefficients:
+/// - standard `<dynamics damping="b" friction="bc"/>` of a moving joint: viscous b qd and Coulomb
+///   bc tanh(qd / v_s) (v_s = 0.01 rad/s unless stated below); zero values are no effect;
+/// - one extension element, a child of <robot> that other URDF readers ignore:
+///     <inertial_effects version="1">
+///       <viscous joint="J"/>                               (b: J's <dynamics damping>)
+///       <coulomb joint="J" velocity_scale="v_s"/>          (bc: J's <dynamics friction>)
+///       <offset joint="J" torque="c"/>                     [N m]
+///       <armature joint="J" inertia="Ia"/>                 [kg m^2]
+///       <spring joint="J" stiffness="k" rest_position="q0"/>
+///       <rotor joint="J" gear_ratio="N"><inertial>...</inertial></rotor>
+///       <payload link="L"><inertial>...</inertial></payload>
+///     </inertial_effects>
+///   A rotor's <inertial> is in the rotor's frame (the joint frame at rotor angle 0: origin and axes
+///   of the child link's frame at q = 0), a payload's in its link's frame; both as URDF <inertial>.
+/// RobotModel::effects holds all of them (what `inertial validate` evaluates); the ones the extension
+/// states are RobotModel::DeclaredEffects() (what the fitting commands add to their model: bare
+/// <dynamics> values of other tools' URDFs are often simulator settings, so they are not fitted
+/// unless asked for with --effects). Every number is parsed strictly (a finite decimal).
+///
 /// Errors (UrdfError) start with the file path (or the source name given to ParseUrdf), e.g.
 /// "robot.urdf: link 'thigh': <inertial> is not physically consistent: triangle inequality ...".
 /// Not supported (errors): floating and planar joints, joints with `<mimic>`.
@@ -40,6 +60,7 @@
 #include <vector>
 
 #include "inertial/inertia/inertial_params.hpp"
+#include "inertial/model/joint_effect.hpp"
 #include "inertial/model/kinematic_tree.hpp"
 
 namespace inertial {
@@ -74,6 +95,13 @@ struct RobotModel {
   std::vector<std::string> dof_names;   ///< the joint name of each DOF, in the tree's DOF order
   std::vector<UrdfLinkInertial> links;  ///< every link of the file, in file order
   std::map<std::string, LinkPlacement> placements;  ///< every link by name
+  /// Every effect the file states, with its coefficients (see the file comment).
+  std::vector<ModelEffect> effects;
+  /// One flag per effect: stated in <inertial_effects> (not only as a <dynamics> value).
+  std::vector<bool> effect_declared;
+
+  /// The specs of the effects <inertial_effects> states (payload and rotor inertias as priors).
+  std::vector<EffectSpec> DeclaredEffects() const;
 
   /// The DOF of a moving joint, or -1 if `joint` is not a moving joint of the model.
   int DofIndex(const std::string& joint) const;

@@ -5,8 +5,10 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "inertial/inertia/inertial_params.hpp"
 #include "inertial/io/urdf_model.hpp"
@@ -18,6 +20,27 @@ struct JointDynamics {
   double damping = 0;
   double friction = 0;
 };
+
+/// What WriteUrdfModel changes in a URDF.
+struct UrdfModelChanges {
+  /// link name -> pi about that link's frame origin in link axes (see WriteUrdfWithInertias).
+  std::map<std::string, InertialParams> inertias;
+  /// links whose `<inertial>` is removed (e.g. merged into another link's new value).
+  std::set<std::string> removed_inertials;
+  /// Set: the model's effects replace the file's (urdf_model.hpp, the model file): <dynamics
+  /// damping friction> of every moving joint and one <inertial_effects> element.
+  std::optional<std::vector<ModelEffect>> effects;
+  /// A comment to place inside an element: a link name ("thigh") or an effect ("payload@tool0").
+  std::map<std::string, std::string> notes;
+  /// What the top comment says about where the values come from (e.g. "identified from run1.csv").
+  std::string origin;
+};
+
+/// Reads the URDF at in_path and writes it to out_path with `changes`, keeping everything else.
+/// The file is written to a temporary file in the same folder and renamed over out_path, so a
+/// crash or signal never leaves half a file. @throws UrdfError as WriteUrdfWithInertias, and for an
+/// effect on an unknown joint or with a non-finite coefficient.
+void WriteUrdfModel(const std::string& in_path, const std::string& out_path, const UrdfModelChanges& changes);
 
 /// Reads the URDF at in_path and writes it to out_path (which may be the same file) with:
 /// - new_inertias: link name -> pi about that link's frame origin in link axes. Written as a fresh

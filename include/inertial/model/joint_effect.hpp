@@ -23,9 +23,12 @@
 /// A joint effect without a target applies to every actuated joint; payload and rotor need one.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "inertial/inertia/inertial_params.hpp"
 
 namespace inertial {
 
@@ -45,7 +48,22 @@ struct EffectSpec {
   double radius = 0.0;           ///< payload / rotor prior radius [m] (0: the default above)
   double length = 0.0;           ///< rotor prior length [m] (0: the default above)
   std::string text;              ///< the item as written, for messages
+  /// Payload / rotor: the prior body itself, replacing the default shape above (a payload in its
+  /// link's frame; a rotor in its own frame: origin on the joint axis where the joint frame is,
+  /// axes those of the joint frame at rotor angle 0). Set when a model file states the body.
+  std::optional<InertialParams> inertia;
 };
+
+/// An effect with known coefficients, as a model file holds it (urdf_effects.hpp).
+struct ModelEffect {
+  EffectSpec spec;  ///< a joint effect has one target joint; a body effect has spec.inertia set
+  /// Joint effects: the physical coefficients in RobotDynamics::EffectValues order ({b}, {bc},
+  /// {c}, {Ia}, {k, q0}); body effects: empty.
+  std::vector<double> values;
+};
+
+/// The number of coefficients of a joint effect of `kind` (2 for a spring, else 1; 0 for bodies).
+int NumEffectValues(EffectKind kind);
 
 /// Parses a comma-separated list. Targets are not checked against a model here.
 /// @throws std::invalid_argument naming the item and what is wrong (unknown kind, missing target,

@@ -94,6 +94,12 @@ class RobotDynamics {
   /// body; non-negative coefficients floored at `floor` before the log; spring q0 = (k q0) / k.
   Eigen::VectorXd ParametersFromEffectCoefficients(const Eigen::VectorXd& effect_coefficients,
                                                    double floor = 1e-6) const;
+  /// x of a model whose coefficients are known: theta = 0 for every body (a file's payloads and
+  /// rotors are priors set to their stated inertia, EffectSpec::inertia) and each effect term's
+  /// parameters from the ModelEffect of the same kind on its joint (a zero non-negative
+  /// coefficient becomes e^s = 1e-300). @throws std::invalid_argument naming a term that has no
+  /// values, values of the wrong count, or a negative or non-finite coefficient.
+  Eigen::VectorXd ParametersFromEffectValues(const std::vector<ModelEffect>& effects) const;
   /// Estimated body e at x, in its report frame.
   InertialParams BodyInertia(int e, const Eigen::VectorXd& x) const;
   /// The physical coefficients of effect term k at x: {b}, {bc}, {c}, {Ia}, or {k, q0}.

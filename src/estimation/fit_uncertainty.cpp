@@ -1,0 +1,215 @@
+#include "inertial/estimation/fit_uncertainty.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "inertial/inertia/log_det_divergence.hpp"
+
+namespace inertial {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+/// Eigenvalues of the Jacobi-scaled H below this fraction of the largest are undetermined.
+constexpr double kUndeterminedEigenvalue = 1e-12;
+/// A gradient whose component along the undetermined subspace exceeds this fraction of its norm
+/// (both in scaled coordinates) gives an infinite standard deviation.
+constexpr double kUndeterminedComponent = 1e-6;
+
+/// The eigen-decomposition of the Jacobi-scaled Hessian of the estimated parameters.
+struct ScaledHessian {
+  Eigen::VectorXd inv_sqrt_diag;  ///< D^-1/2 (1 where the diagonal is not positive)
+  Eigen::MatrixXd pseudo_inverse;  ///< (D^-1/2 H D^-1/2)^+ on the determined directions
+  Eigen::MatrixXd undetermined;    ///< orthonormal basis of the undetermined directions (scaled)
+};
+
+ScaledHessian DecomposeScaled(const Eigen::MatrixXd& H) {
+  const int n = static_cast<int>(H.rows());
+  ScaledHessian s;
+  s.inv_sqrt_diag.resize(n);
+  for (int i = 0; i < n; ++i) s.inv_sqrt_diag[i] = H(i, i) > 0.0 ? 1.0 / std::sqrt(H(i, i)) : 1.0;
+  const Eigen::MatrixXd Hs = s.inv_sqrt_diag.asDiagonal() * H * s.inv_sqrt_diag.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Hs);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  const double largest = n > 0 ? lambda[n - 1] : 0.0;
+  int null_count = 0;
+  while (null_count < n && !(lambda[null_count] > kUndeterminedEigenvalue * largest && largest > 0.0)) ++null_count;
+  const Eigen::MatrixXd U = eig.eigenvectors().rightCols(n - null_count);
+  s.pseudo_inverse = U * lambda.tail(n - null_count).cwiseInverse().asDiagonal() * U.transpose();
+  s.undetermined = eig.eigenvectors().leftCols(null_count);
+  return s;
+}
+
+/// True if the gradient g (of a quantity, with respect to the estimated parameters, unscaled) has
+/// a component along the undetermined subspace. `first` and g's size select a block of them.
+bool TouchesUndetermined(const ScaledHessian& s, int first, const Eigen::VectorXd& g) {
+  if (s.undetermined.cols() == 0) return false;
+  const Eigen::VectorXd g_scaled = s.inv_sqrt_diag.segment(first, g.size()).cwiseProduct(g);
+  const double along = (s.undetermined.middleRows(first, g.size()).transpose() * g_scaled).norm();
+  return along > kUndeterminedComponent * g_scaled.norm();
+}
+
+}  // namespace
+
+Matrix10 ReportFrameMap(const EstimatedBody& body) {
+  // The pseudo-inertia moves as J_A = T J_B T^T, linear in pi: L's columns are the images of e_k.
+  const Matrix3 R = body.report_frame.R_AB.transpose();
+  Matrix4 T = Matrix4::Identity();
+  T.block<3, 3>(0, 0) = R;
+  T.block<3, 1>(0, 3) = -(R * body.report_frame.p_AB);
+  Matrix10 L;
+  for (int k = 0; k < 10; ++k) {
+    L.col(k) = PiFromPseudoInertia(T * PseudoInertiaFromPi(Vector10::Unit(k)) * T.transpose());
+  }
+  return L;
+}
+
+FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
+                                      const Eigen::VectorXd& x, double prior_weight,
+                                      const std::vector<bool>& frozen_bodies) {
+  const int F = model.num_features(), P = model.num_parameters();
+  const int B = static_cast<int>(model.bodies().size());
+  if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
+    throw std::invalid_argument("fit uncertainty: normal equations do not match the model's features");
+  }
+  if (x.size() != P || !x.allFinite()) {
+    throw std::invalid_argument("fit uncertainty: x must be " + std::to_string(P) + " finite numbers");
+  }
+  if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight)) {
+    throw std::invalid_argument("fit uncertainty: the prior weight must be finite and non-negative");
+  }
+  if (!frozen_bodies.empty() && static_cast<int>(frozen_bodies.size()) != B) {
+    throw std::invalid_argument("fit uncertainty: frozen_bodies must have one flag per estimated body");
+  }
+  auto frozen = [&](int e) { return !frozen_bodies.empty() && frozen_bodies[e]; };
+
+  // The estimated parameters (frozen bodies left out) and their position among them.
+  std::vector<int> free_index;
+  std::vector<int> position(P, -1);
+  for (int p = 0; p < P; ++p) {
+    if (p < 10 * B && frozen(p / 10)) continue;
+    position[p] = static_cast<int>(free_index.size());
+    free_index.push_back(p);
+  }
+  const int n = static_cast<int>(free_index.size());
+
+  // Gauss-Newton Hessian of F (as IdentifyJointModel forms it), on the estimated parameters.
+  Eigen::MatrixXd J_w_x;
+  const Eigen::VectorXd w = model.Coefficients(x, &J_w_x);
+  Eigen::MatrixXd J_w_free(F, n);
+  for (int i = 0; i < n; ++i) J_w_free.col(i) = J_w_x.col(free_index[i]);
+  const Eigen::MatrixXd H_data = J_w_free.transpose() * data.AtA * J_w_free;
+  Eigen::MatrixXd H = H_data;
+  std::vector<Matrix10> H_prior(B, Matrix10::Zero());
+  for (int e = 0; e < B; ++e) {
+    if (frozen(e)) continue;
+    Matrix10 J_r_theta;
+    LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), &J_r_theta);
+    H_prior[e] = prior_weight * J_r_theta.transpose() * J_r_theta;
+    H.block<10, 10>(position[10 * e], position[10 * e]) += H_prior[e];
+  }
+  const ScaledHessian scaled = DecomposeScaled(H);
+  // H^+ in the unscaled parameters.
+  const Eigen::MatrixXd H_pinv =
+      scaled.inv_sqrt_diag.asDiagonal() * scaled.pseudo_inverse * scaled.inv_sqrt_diag.asDiagonal();
+
+  FitUncertainty u;
+  u.undetermined_directions = static_cast<int>(scaled.undetermined.cols());
+  u.effective_parameters = (H_pinv.cwiseProduct(H_data)).sum();  // trace(H^+ H_data), both symmetric
+  const double rows = static_cast<double>(data.num_samples) * model.num_dofs();
+  u.dof = rows - u.effective_parameters;
+  if (!(u.dof > 0.0)) {
+    throw std::invalid_argument("fit uncertainty: " + std::to_string(rows) + " torque rows leave no residual " +
+                                "degrees of freedom for " + std::to_string(u.effective_parameters) +
+                                " effective parameters");
+  }
+  const double s2 = SquaredError(data, w) / u.dof;
+  u.noise_sigma = std::sqrt(s2);
+
+  const Eigen::MatrixXd C_free = s2 * H_pinv;
+  std::vector<bool> undetermined_parameter(n, false);
+  for (int i = 0; i < n; ++i) {
+    undetermined_parameter[i] = TouchesUndetermined(scaled, i, Eigen::VectorXd::Ones(1));
+  }
+  u.covariance = Eigen::MatrixXd::Zero(P, P);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      double c = C_free(i, j);
+      if (undetermined_parameter[i] || undetermined_parameter[j]) {
+        c = i == j ? kInfinity : std::numeric_limits<double>::quiet_NaN();
+      }
+      u.covariance(free_index[i], free_index[j]) = c;
+    }
+  }
+
+  // Bodies: every quantity through its gradient with respect to theta_e.
+  u.bodies.assign(B, BodyUncertainty());
+  u.body_held.assign(B, BodyHeldByPrior());
+  for (int e = 0; e < B; ++e) {
+    if (frozen(e)) continue;
+    const EstimatedBody& body = model.bodies()[e];
+    const int first = position[10 * e];
+    Matrix10 J_pi_theta;
+    body.map.ToPi(x.segment<10>(10 * e), &J_pi_theta);
+    const Matrix10 J_piReport_theta = ReportFrameMap(body) * J_pi_theta;
+    const InertialParams in_report = model.BodyInertia(e, x);
+    const Matrix10 C_theta = C_free.block<10, 10>(first, first);
+    BodyUncertainty& bu = u.bodies[e];
+    bu = UncertaintyOf(in_report, J_piReport_theta * C_theta * J_piReport_theta.transpose());
+
+    // Rows of d(quantity)/d(pi_report): mass, COM and I_C from J_mci_pi, then I_O entries.
+    Matrix10 J_mci_pi;
+    MassComInertiaAboutCom(in_report, &J_mci_pi);
+    Eigen::Matrix<double, 16, 10> G_pi = Eigen::Matrix<double, 16, 10>::Zero();
+    G_pi.topRows<10>() = J_mci_pi;
+    G_pi.bottomRows<6>().rightCols<6>().setIdentity();
+    const Eigen::Matrix<double, 16, 10> G_theta = G_pi * J_piReport_theta;
+    double* std_of[16] = {&bu.mass};
+    for (int k = 0; k < 3; ++k) std_of[mci_index::kCx + k] = &bu.com[k];
+    for (int k = 0; k < 6; ++k) {
+      std_of[mci_index::kIxx + k] = &bu.inertia_about_com[k];
+      std_of[10 + k] = &bu.inertia[k];
+    }
+    // Held: the prior's share of the posterior variance exceeds the data's. With y = H^+ g,
+    // v_post = y^T H y = y^T H_data y + sum_b y_b^T H_prior,b y_b (over s^2).
+    bool held[10] = {};
+    for (int q = 0; q < 16; ++q) {
+      const Eigen::VectorXd g = G_theta.row(q).transpose();
+      if (TouchesUndetermined(scaled, first, g)) *std_of[q] = kInfinity;
+      if (q >= 10 || prior_weight == 0.0 || std::isinf(*std_of[q])) continue;
+      const Eigen::VectorXd y = H_pinv.middleCols(first, 10) * g;
+      double prior_share = 0.0;
+      for (int b = 0; b < B; ++b) {
+        if (frozen(b)) continue;
+        const Vector10 y_b = y.segment<10>(position[10 * b]);
+        prior_share += y_b.dot(H_prior[b] * y_b);
+      }
+      held[q] = prior_share > y.dot(H_data * y);
+    }
+    BodyHeldByPrior& h = u.body_held[e];
+    h.mass = held[mci_index::kMass];
+    for (int k = 0; k < 3; ++k) h.com[k] = held[mci_index::kCx + k];
+    for (int k = 0; k < 6; ++k) h.inertia_about_com[k] = held[mci_index::kIxx + k];
+  }
+
+  // Effects: std of each physical value from the std of its parameter.
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    const std::vector<double> values = model.EffectValues(k, x);
+    std::vector<double> stds(values.size());
+    for (int i = 0; i < static_cast<int>(values.size()); ++i) {
+      const int p = position[t.first_parameter + i];
+      const double sd = std::sqrt(std::max(0.0, C_free(p, p)));
+      // Exponential coefficients (viscous, coulomb, armature, spring k): d(e^s)/ds = e^s.
+      const bool exponential = t.kind != EffectKind::kOffset && i == 0;
+      stds[i] = undetermined_parameter[p] ? kInfinity : exponential ? values[i] * sd : sd;
+    }
+    u.effects.push_back(std::move(stds));
+  }
+  return u;
+}
+
+}  // namespace inertial

@@ -1,0 +1,290 @@
+// Uncertainty of the batch identification (fit_uncertainty.hpp) and the body quantities' Jacobian
+// (MassComInertiaAboutCom, parameter_layout.hpp). The Monte Carlo check on the bundled leg is in
+// tests/io/fit_uncertainty_monte_carlo_test.cpp (it reads the URDF).
+#include "inertial/estimation/fit_uncertainty.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "inertial/inertia/closed_form_bodies.hpp"
+#include "test_support.hpp"
+
+namespace inertial {
+namespace {
+
+using testing::Rng;
+
+// J_mci_pi against central differences of mci(pi), at random fully consistent bodies, thin ones
+// (a rod, a plate, a light body far from the origin) included. Steps are relative to each entry
+// of pi so that the rounding error stays below the tolerance.
+TEST(MassComInertiaAboutCom, JacobianMatchesCentralDifferences) {
+  Rng rng(51);
+  std::vector<InertialParams> bodies;
+  for (int k = 0; k < 6; ++k) {
+    Pose pose = rng.RandomPose<Pose>(0.3);
+    bodies.push_back(SolidBox(rng.Uniform(0.2, 5.0), rng.Uniform(0.02, 0.4), rng.Uniform(0.02, 0.4),
+                              rng.Uniform(0.02, 0.4), pose));
+  }
+  bodies.push_back(SolidCylinder(0.4, 1e-4, 0.5, rng.RandomPose<Pose>(0.2)));       // a rod
+  bodies.push_back(SolidBox(1.2, 0.3, 0.2, 1e-5, rng.RandomPose<Pose>(0.2)));       // a plate
+  bodies.push_back(SolidSphere(1e-3, 0.01, Pose{Matrix3::Identity(), Vector3(0.5, -0.4, 0.3)}));  // light, far
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    const Vector10 pi = bodies[b].vector();
+    Matrix10 J_mci_pi;
+    const Vector10 mci = MassComInertiaAboutCom(bodies[b], &J_mci_pi);
+    // The value: mass, COM and the tensor's entries about the COM.
+    const Matrix3 I_C = bodies[b].rotational_inertia_about_com();
+    EXPECT_EQ(mci[mci_index::kMass], bodies[b].mass());
+    EXPECT_LT((mci.segment<3>(mci_index::kCx) - bodies[b].com()).norm(), 1e-14);
+    const Vector6 entries = (Vector6() << I_C(0, 0), I_C(1, 1), I_C(2, 2), I_C(0, 1), I_C(1, 2), I_C(0, 2)).finished();
+    EXPECT_LT((mci.segment<6>(mci_index::kIxx) - entries).norm(), 1e-14 * std::max(1.0, I_C.norm()));
+    for (int k = 0; k < 10; ++k) {
+      const double h = 1e-6 * std::max(std::abs(pi[k]), 1e-3 * pi[pi_index::kMass]);
+      Vector10 plus = pi, minus = pi;
+      plus[k] += h;
+      minus[k] -= h;
+      const Vector10 fd = (MassComInertiaAboutCom(InertialParams::FromVector(plus)) -
+                           MassComInertiaAboutCom(InertialParams::FromVector(minus))) / (2.0 * h);
+      for (int i = 0; i < 10; ++i) {
+        EXPECT_NEAR(J_mci_pi(i, k), fd[i], 1e-6 * std::max(std::abs(fd[i]), 1.0 / std::max(1.0, pi[pi_index::kMass])))
+            << "body " << b << " d mci[" << i << "] / d pi[" << k << "]";
+      }
+    }
+  }
+}
+
+// UncertaintyOf's new field, and the old ones unchanged: with the COM at the origin, I_C = I_O and
+// the two inertia stds coincide; otherwise they follow sqrt(diag(G C G^T)) with G from J_mci_pi.
+TEST(MassComInertiaAboutCom, UncertaintyOfGivesInertiaAboutComStd) {
+  Rng rng(52);
+  Matrix10 L = Matrix10::Zero();
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j <= i; ++j) L(i, j) = rng.Normal(i == j ? 1e-3 : 3e-4);
+  }
+  const Matrix10 C = L * L.transpose();
+  const BodyUncertainty centred = UncertaintyOf(SolidBox(2.0, 0.3, 0.2, 0.1), C);
+  EXPECT_LT((centred.inertia_about_com - centred.inertia).norm(), 1e-15);
+  const InertialParams off = SolidBox(2.0, 0.3, 0.2, 0.1, Pose{rng.Rotation(), Vector3(0.1, -0.2, 0.05)});
+  const BodyUncertainty u = UncertaintyOf(off, C);
+  Matrix10 J;
+  MassComInertiaAboutCom(off, &J);
+  const Vector10 expected = (J * C * J.transpose()).diagonal().cwiseSqrt();
+  EXPECT_DOUBLE_EQ(u.mass, std::sqrt(C(0, 0)));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(u.com[k], expected[mci_index::kCx + k], 1e-12 * expected[mci_index::kCx + k]);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_DOUBLE_EQ(u.inertia[k], std::sqrt(C(4 + k, 4 + k)));
+    EXPECT_NEAR(u.inertia_about_com[k], expected[mci_index::kIxx + k], 1e-12 * expected[mci_index::kIxx + k]);
+  }
+}
+
+const std::vector<std::string> kJoints = {"abad", "hip", "knee"};
+
+// A leg-like chain (ab/ad about x, hip and knee about y), as in joint_identification_test.cpp.
+KinematicTree Leg() {
+  const InertialParams links[3] = {
+      SolidBox(1.8, 0.12, 0.08, 0.08, Pose{Matrix3::Identity(), Vector3(0.0, 0.04, 0)}),
+      SolidBox(1.5, 0.06, 0.06, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0.02, -0.12)}),
+      SolidCylinder(0.5, 0.015, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.16)})};
+  const Vector3 origin[3] = {Vector3(0.2, 0.1, 0), Vector3(0, 0.06, 0), Vector3(0, 0, -0.34)};
+  const Vector3 axis[3] = {Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitY()};
+  KinematicTree tree;
+  for (int i = 0; i < 3; ++i) {
+    JointModel j;
+    j.name = kJoints[i];
+    j.p_parent_joint = origin[i];
+    j.axis = axis[i];
+    tree.AddBody(kJoints[i] + "_link", i - 1, j, links[i]);
+  }
+  return tree;
+}
+
+RobotDynamics LegModel(const std::string& effects) {
+  return RobotDynamics(Leg(), kJoints, ParseEffectList(effects), [](const std::string&, LinkLocation*) { return false; });
+}
+
+// Samples along a sum of sinusoids (exact derivatives), torques from the model at x_true plus
+// Gaussian noise.
+JointSamples Excite(const RobotDynamics& model, const Eigen::VectorXd& x_true, int N, double noise, Rng& rng) {
+  JointSamples s;
+  s.joint_names = kJoints;
+  s.t.resize(N);
+  s.q.resize(N, 3);
+  s.qd.resize(N, 3);
+  s.qdd.resize(N, 3);
+  s.tau.resize(N, 3);
+  for (int k = 0; k < N; ++k) {
+    const double t = 0.005 * k;
+    s.t[k] = t;
+    for (int j = 0; j < 3; ++j) {
+      s.q(k, j) = s.qd(k, j) = s.qdd(k, j) = 0.0;
+      for (int h = 1; h <= 3; ++h) {
+        const double w = 2 * M_PI * 0.3 * h * (1 + 0.37 * j), a = 0.5 / h, p = j + h;
+        s.q(k, j) += a * std::sin(w * t + p);
+        s.qd(k, j) += a * w * std::cos(w * t + p);
+        s.qdd(k, j) -= a * w * w * std::sin(w * t + p);
+      }
+    }
+    s.tau.row(k) = model.InverseDynamics(x_true, s.q.row(k).transpose(), s.qd.row(k).transpose(),
+                                         s.qdd.row(k).transpose()).transpose();
+    for (int j = 0; j < 3; ++j) s.tau(k, j) += noise * rng.Normal();
+  }
+  return s;
+}
+
+// Closed form: with every body frozen the model is linear in the effect coefficients c (w = [pi of
+// the priors; c]), the fit is linear least squares c = (A_e^T A_e)^-1 A_e^T (tau - A_b pi), and
+//   s^2 = ||A w - tau||^2 / (N_rows - P_e),  cov(c) = s^2 (A_e^T A_e)^-1,
+// exactly (p_eff = P_e: no prior acts on effects). Through b = e^s (Gauss-Newton, J = diag(b)),
+// cov(s_i, s_j) = cov(c_i, c_j) / (c_i c_j), and std(b) = b std(s) = std(c).
+TEST(FitUncertainty, EffectsOnlyMatchLinearLeastSquares) {
+  Rng rng(53);
+  const RobotDynamics model = LegModel("viscous,coulomb:scale=0.05,offset");
+  const int Fi = model.num_inertia_features(), F = model.num_features(), Fe = F - Fi;
+  Eigen::VectorXd c_true(Fe);
+  for (const EffectTerm& t : model.effects()) {
+    c_true[t.first_feature - Fi] = t.kind == EffectKind::kViscous ? 0.3 : t.kind == EffectKind::kCoulomb ? 0.8 : -0.4;
+  }
+  const JointSamples samples = Excite(model, model.ParametersFromEffectCoefficients(c_true), 600, 0.1, rng);
+  const JointNormalEquations eq = AccumulateNormalEquations(model, samples);
+  const Eigen::VectorXd w_prior = model.Coefficients(Eigen::VectorXd::Zero(model.num_parameters()));
+  const Eigen::MatrixXd AtA_e = eq.AtA.bottomRightCorner(Fe, Fe);
+  const Eigen::VectorXd c = AtA_e.ldlt().solve(eq.Atb.tail(Fe) - eq.AtA.bottomLeftCorner(Fe, Fi) * w_prior.head(Fi));
+  for (const EffectTerm& t : model.effects()) {
+    if (t.kind != EffectKind::kOffset) {
+      ASSERT_GT(c[t.first_feature - Fi], 0.1);  // e^s can represent it
+    }
+  }
+  const Eigen::VectorXd x = model.ParametersFromEffectCoefficients(c);
+  Eigen::VectorXd w = w_prior;
+  w.tail(Fe) = c;
+  const double rows = 3.0 * samples.size();
+  const double s2 = SquaredError(eq, w) / (rows - Fe);
+  const Eigen::MatrixXd cov_c = s2 * AtA_e.inverse();
+
+  const std::vector<bool> frozen = {true, true, true};
+  for (double gamma : {0.0, 1e-2}) {  // the prior is irrelevant with every body frozen
+    const FitUncertainty u = EstimateFitUncertainty(model, eq, x, gamma, frozen);
+    EXPECT_NEAR(u.effective_parameters, Fe, 1e-9 * Fe);
+    EXPECT_NEAR(u.dof, rows - Fe, 1e-9 * rows);
+    EXPECT_NEAR(u.noise_sigma, std::sqrt(s2), 1e-9 * std::sqrt(s2));
+    EXPECT_EQ(u.undetermined_directions, 0);
+    ASSERT_EQ(u.effects.size(), model.effects().size());
+    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+      const EffectTerm& t = model.effects()[k];
+      const int f = t.first_feature - Fi;
+      ASSERT_EQ(u.effects[k].size(), 1u);
+      EXPECT_NEAR(u.effects[k][0], std::sqrt(cov_c(f, f)), 1e-9 * std::sqrt(cov_c(f, f))) << k;
+      for (const EffectTerm& o : model.effects()) {
+        const int g = o.first_feature - Fi;
+        const double scale = (t.kind == EffectKind::kOffset ? 1.0 : c[f]) * (o.kind == EffectKind::kOffset ? 1.0 : c[g]);
+        const double expected = cov_c(f, g) / scale;
+        EXPECT_NEAR(u.covariance(t.first_parameter, o.first_parameter), expected,
+                    1e-9 * std::sqrt(cov_c(f, f) * cov_c(g, g)) / scale) << k;
+      }
+    }
+    // Frozen bodies: fixed, so zero covariance, zero std, nothing held.
+    EXPECT_EQ(u.covariance.topRows(30).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ(u.covariance.leftCols(30).cwiseAbs().maxCoeff(), 0.0);
+    for (int e = 0; e < 3; ++e) {
+      EXPECT_EQ(u.bodies[e].mass, 0.0);
+      EXPECT_EQ(u.bodies[e].com.norm() + u.bodies[e].inertia.norm() + u.bodies[e].inertia_about_com.norm(), 0.0);
+      EXPECT_FALSE(u.body_held[e].mass);
+    }
+  }
+}
+
+// The first link turns about a fixed axis: its mass never enters the torques (only its first
+// moment and its inertia about the axis do). Without a prior that mass is undetermined (std
+// infinite, not "held": nothing holds it); with the paper's prior it is finite and held by the
+// prior, and the effective number of parameters drops below P.
+TEST(FitUncertainty, MassOfTheFirstLinkIsHeldByThePriorOrUndetermined) {
+  Rng rng(54);
+  const RobotDynamics model = LegModel("viscous");
+  Eigen::VectorXd x_true = Eigen::VectorXd::Zero(model.num_parameters());
+  for (int i = 0; i < 30; ++i) x_true[i] = rng.Uniform(-0.2, 0.2);
+  for (const EffectTerm& t : model.effects()) x_true[t.first_parameter] = std::log(0.3);
+  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x_true, 1500, 0.2, rng));
+  JointIdentificationOptions options;
+  options.initial = x_true;
+  const Eigen::VectorXd x = IdentifyJointModel(model, eq, options).x;
+
+  const FitUncertainty none = EstimateFitUncertainty(model, eq, x, 0.0);
+  EXPECT_GT(none.undetermined_directions, 0);
+  EXPECT_TRUE(std::isinf(none.bodies[0].mass));
+  EXPECT_FALSE(none.body_held[0].mass);
+  EXPECT_NEAR(none.effective_parameters, model.num_parameters() - none.undetermined_directions, 1e-6);
+  for (int k = 0; k < 3; ++k) EXPECT_TRUE(std::isfinite(none.effects[k][0])) << k;  // friction is identifiable
+
+  const FitUncertainty with_prior = EstimateFitUncertainty(model, eq, x, options.prior_weight);
+  EXPECT_EQ(with_prior.undetermined_directions, 0);
+  EXPECT_TRUE(std::isfinite(with_prior.bodies[0].mass));
+  EXPECT_TRUE(with_prior.body_held[0].mass);
+  EXPECT_GT(with_prior.bodies[0].mass, 0.2 * model.BodyInertia(0, x).mass());
+  EXPECT_LT(with_prior.effective_parameters, model.num_parameters() - 1.0);
+  EXPECT_GT(with_prior.effective_parameters, 1.0);
+  // Covariance of x: symmetric, positive semi-definite.
+  EXPECT_LT((with_prior.covariance - with_prior.covariance.transpose()).norm(), 1e-12 * with_prior.covariance.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(with_prior.covariance).eigenvalues().minCoeff(),
+            -1e-12 * with_prior.covariance.norm());
+}
+
+// A payload reported in its link's frame (rotated and offset from the tree body's): the map L gives
+// exactly RobotDynamics::BodyInertia, the payload's stds are UncertaintyOf(L J_pi_theta C_theta
+// J_pi_theta^T L^T), and its mass std is the same as in the tree body's frame.
+TEST(FitUncertainty, ReportFrameMapGivesTheBodyInItsReportFrame) {
+  Rng rng(56);
+  const Matrix3 R_BL = rng.Rotation();
+  const Vector3 p_BL(0.03, -0.02, -0.3);
+  const LinkResolver tool = [&](const std::string& link, LinkLocation* where) {
+    if (link != "tool") return false;
+    where->body = 2;
+    where->link_in_body.R_AB = R_BL;
+    where->link_in_body.p_AB = p_BL;
+    return true;
+  };
+  const RobotDynamics model(Leg(), kJoints, ParseEffectList("payload@tool:mass=0.8,viscous"), tool);
+  ASSERT_EQ(model.bodies().size(), 4u);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
+  for (int i = 0; i < 40; ++i) x[i] = rng.Uniform(-0.2, 0.2);
+  const EstimatedBody& payload = model.bodies()[3];
+  const Matrix10 L = ReportFrameMap(payload);
+  const Vector10 in_report = L * payload.map.ToPi(x.segment<10>(30));
+  EXPECT_LT((in_report - model.BodyInertia(3, x).vector()).norm(), 1e-14 * in_report.norm());
+  // The prior, in the link frame, is the 0.8 kg sphere at the link origin.
+  const Vector10 prior_in_link = L * payload.prior.vector();
+  EXPECT_NEAR(prior_in_link[pi_index::kMass], 0.8, 1e-14);
+  EXPECT_LT(prior_in_link.segment<3>(pi_index::kHx).norm(), 1e-14);
+
+  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x, 600, 0.1, rng));
+  const FitUncertainty u = EstimateFitUncertainty(model, eq, x, 1e-2);
+  Matrix10 J_pi_theta;
+  payload.map.ToPi(x.segment<10>(30), &J_pi_theta);
+  const Matrix10 C_theta = u.covariance.block<10, 10>(30, 30);
+  const BodyUncertainty expected = UncertaintyOf(model.BodyInertia(3, x), L * J_pi_theta * C_theta * J_pi_theta.transpose() * L.transpose());
+  EXPECT_NEAR(u.bodies[3].mass, expected.mass, 1e-12 * expected.mass);
+  EXPECT_LT((u.bodies[3].com - expected.com).norm(), 1e-12 * expected.com.norm());
+  EXPECT_LT((u.bodies[3].inertia_about_com - expected.inertia_about_com).norm(), 1e-12 * expected.inertia_about_com.norm());
+  // The mass std does not depend on the frame.
+  Matrix10 J_tree;
+  payload.map.ToPi(x.segment<10>(30), &J_tree);
+  EXPECT_NEAR(u.bodies[3].mass, std::sqrt((J_tree * C_theta * J_tree.transpose())(0, 0)), 1e-12 * u.bodies[3].mass);
+}
+
+TEST(FitUncertainty, RejectsInputsThatDoNotMatchTheModel) {
+  Rng rng(55);
+  const RobotDynamics model = LegModel("viscous");
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
+  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x, 50, 0.1, rng));
+  EXPECT_THROW(EstimateFitUncertainty(model, eq, x.head(5), 0.01), std::invalid_argument);
+  EXPECT_THROW(EstimateFitUncertainty(model, eq, x, -1.0), std::invalid_argument);
+  EXPECT_THROW(EstimateFitUncertainty(model, eq, x, 0.01, {true}), std::invalid_argument);
+  JointNormalEquations few = eq;
+  few.num_samples = 2;  // 6 torque rows for (without a prior) as many effective parameters as H_data's rank
+  EXPECT_THROW(EstimateFitUncertainty(model, few, x, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace inertial
