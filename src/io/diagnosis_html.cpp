@@ -219,4 +219,12 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
   WriteFile(dir / "index.html", html.str());
 }
 
+const std::vector<std::string>& DiagnosisReportFileNames() {
+  static const std::vector<std::string> names = {
+      "index.html",          "heldout.dat",       "errors.dat",        "torques.gp",   "torques.png",
+      "residual_time.gp",    "residual_time.png", "residual_velocity.gp", "residual_velocity.png",
+      "errors.gp",           "errors.png"};
+  return names;
+}
+
 }  // namespace inertial

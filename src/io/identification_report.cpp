@@ -8,6 +8,7 @@
 
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/uncertainty_report.hpp"
+#include "inertial/io/validation_report.hpp"
 
 namespace inertial {
 namespace {
@@ -109,9 +110,36 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   run.prior_train = CompareTorques(PredictJointTorques(model, x_urdf, train), train.tau);
   run.fit_train = CompareTorques(PredictJointTorques(model, run.fit.x, train), train.tau);
   if (validation != nullptr) {
-    run.validation_samples = validation->size();
-    run.prior_validation = CompareTorques(PredictJointTorques(model, x_urdf, *validation), validation->tau);
-    run.fit_validation = CompareTorques(PredictJointTorques(model, run.fit.x, *validation), validation->tau);
+    // Held-out rows whose measurement or prediction is not finite (a glitch in the validation log)
+    // are left out of its errors and counted, as validate does.
+    Eigen::MatrixXd prior = PredictJointTorques(model, x_urdf, *validation);
+    Eigen::MatrixXd fitted = PredictJointTorques(model, run.fit.x, *validation);
+    Eigen::MatrixXd both(prior.rows(), 2 * prior.cols());
+    both << prior, fitted;
+    const std::vector<int> bad = NonFiniteRows(both, *validation);
+    JointSamples kept_validation;
+    const JointSamples* v = validation;
+    if (!bad.empty()) {
+      if (static_cast<int>(bad.size()) == validation->size()) {
+        throw std::invalid_argument("the validation log has no sample with finite values and predictions");
+      }
+      std::vector<int> keep;
+      for (int i = 0, b = 0; i < validation->size(); ++i) {
+        if (b < static_cast<int>(bad.size()) && bad[b] == i) {
+          ++b;
+        } else {
+          keep.push_back(i);
+        }
+      }
+      kept_validation = SelectSamples(*validation, keep);
+      v = &kept_validation;
+      prior = PredictJointTorques(model, x_urdf, *v);
+      fitted = PredictJointTorques(model, run.fit.x, *v);
+      run.validation_left_out = static_cast<int>(bad.size());
+    }
+    run.validation_samples = v->size();
+    run.prior_validation = CompareTorques(prior, v->tau);
+    run.fit_validation = CompareTorques(fitted, v->tau);
   }
   if (!run.failed()) {
     run.identifiability = AnalyzeIdentifiability(eq.AtA, model.FeatureNames());
@@ -131,6 +159,9 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   out << "  " << model.bodies().size() << " bodies, " << model.effects().size() << " effect terms, "
       << model.num_parameters() << " parameters; " << run.train_samples << " training samples";
   if (run.fit_validation) out << ", " << run.validation_samples << " validation samples";
+  if (run.validation_left_out > 0) {
+    out << " (" << run.validation_left_out << " more left out: a value or prediction not finite)";
+  }
   out << "\n  Levenberg-Marquardt: " << fit.lm.iterations << " iterations, stopped on " << ToString(fit.lm.reason)
       << (fit.lm.converged() ? " (converged)" : " (NOT converged)") << ", " << Format("%.3f", run.fit_seconds)
       << " s with the regressor (" << run.outliers.rounds << " fit" << (run.outliers.rounds == 1 ? "" : "s")
@@ -302,6 +333,7 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
   j["relative_rms_prior_train"] = PerJointJson(model, run.prior_train.relative_rms, run.prior_train.total_relative_rms);
   if (run.fit_validation) {
     j["validation_samples"] = run.validation_samples;
+    j["validation_left_out"] = run.validation_left_out;
     j["rms_validation"] = PerJointJson(model, run.fit_validation->rms, run.fit_validation->total_rms);
     j["relative_rms_validation"] =
         PerJointJson(model, run.fit_validation->relative_rms, run.fit_validation->total_relative_rms);

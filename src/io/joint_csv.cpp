@@ -429,7 +429,10 @@ void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std
   if (integers) seen += ", every stamp an integer";
   throw CsvError(where + ": the time stamps do not look like seconds: " + seen + "; " +
                  (step < kSmallestStep ? std::string("give --time-scale with the factor that converts them to seconds")
-                                       : TimeScaleSuggestion(step)));
+                                       : TimeScaleSuggestion(step)) +
+                 (integers && step >= kSmallestStep && step <= kLargestStep
+                      ? " (if they are whole seconds, --time-scale 1 accepts them)"
+                      : ""));
 }
 
 JointSamples ParseJointCsv(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,

@@ -148,6 +148,14 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
   if (ext != nullptr && ext->NextSiblingElement(kEffectsElement) != nullptr) {
     throw UrdfError(source + ": more than one <" + std::string(kEffectsElement) + "> element");
   }
+  if (ext != nullptr) {
+    const char* version = ext->Attribute("version");
+    if (version == nullptr || std::string(version) != "1") {
+      throw UrdfError(source + ": <" + std::string(kEffectsElement) + "> (line " + std::to_string(ext->GetLineNum()) +
+                      ") has version " + (version ? "'" + std::string(version) + "'" : std::string("(none)")) +
+                      "; this reader knows version 1");
+    }
+  }
   std::vector<ModelEffect> listed;
   std::set<std::string> names;
   for (const tinyxml2::XMLElement* e = ext ? ext->FirstChildElement() : nullptr; e; e = e->NextSiblingElement()) {
@@ -164,6 +172,31 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
     const std::string where = source + ": <" + std::string(kEffectsElement) + ">: " + ElementText(*e);
     if (!known) {
       throw UrdfError(where + " is not an effect (viscous, coulomb, offset, armature, spring, rotor, payload)");
+    }
+    // Nothing unknown is silently ignored: every attribute and child must be the kind's own.
+    static const std::map<EffectKind, std::set<std::string>> kAttributes = {
+        {EffectKind::kViscous, {"joint"}},
+        {EffectKind::kCoulomb, {"joint", "velocity_scale"}},
+        {EffectKind::kOffset, {"joint", "torque"}},
+        {EffectKind::kArmature, {"joint", "inertia"}},
+        {EffectKind::kSpring, {"joint", "stiffness", "rest_position"}},
+        {EffectKind::kRotor, {"joint", "gear_ratio"}},
+        {EffectKind::kPayload, {"link"}}};
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
+      if (kAttributes.at(m.spec.kind).count(a->Name()) == 0) {
+        throw UrdfError(where + " has an unknown attribute '" + std::string(a->Name()) + "'");
+      }
+    }
+    const bool body_effect = m.spec.kind == EffectKind::kRotor || m.spec.kind == EffectKind::kPayload;
+    int children = 0;
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+      if (!body_effect || std::string(c->Name()) != "inertial" || ++children > 1) {
+        throw UrdfError(where + " has an unexpected child <" + std::string(c->Name()) + ">" +
+                        (body_effect ? " (one <inertial> only)" : " (it takes attributes only)"));
+      }
+    }
+    for (const tinyxml2::XMLNode* n = e->FirstChild(); n != nullptr; n = n->NextSibling()) {
+      if (n->ToText() != nullptr) throw UrdfError(where + " holds text; it takes attributes only");
     }
     const char* target = e->Attribute(m.spec.kind == EffectKind::kPayload ? "link" : "joint");
     if (target == nullptr || *target == '\0') {

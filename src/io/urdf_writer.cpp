@@ -1,10 +1,13 @@
 #include "inertial/io/urdf_writer.hpp"
 
+#include <sys/stat.h>
 #include <tinyxml2.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -175,17 +178,33 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
 
   tinyxml2::XMLPrinter printer;
   doc.Print(&printer);
-  // A temporary file beside the target, renamed over it: never half a file, even on a signal.
-  const std::string temporary = out_path + ".tmp-inertial";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw UrdfError(out_path + ": cannot open the file for writing (" + std::strerror(errno) + ")");
-    out.write(printer.CStr(), static_cast<std::streamsize>(printer.CStrSize() - 1));
-    out.close();
-    if (!out) {
-      std::remove(temporary.c_str());
-      throw UrdfError(out_path + ": cannot write the file");
+  // A temporary file beside the target (a unique name, created exclusively: never an existing file
+  // or a link planted there), renamed over it: never half a file, even on a signal.
+  std::error_code status_error;
+  const std::filesystem::file_status target = std::filesystem::status(out_path, status_error);
+  if (std::filesystem::exists(target) && !std::filesystem::is_regular_file(target)) {
+    throw UrdfError(out_path + ": is not a regular file (a directory, device or pipe): refusing to replace it");
+  }
+  std::string temporary = out_path + ".XXXXXX";
+  const int fd = mkstemp(temporary.data());
+  if (fd < 0) throw UrdfError(out_path + ": cannot open the file for writing (" + std::strerror(errno) + ")");
+  const char* bytes = printer.CStr();
+  std::size_t left = static_cast<std::size_t>(printer.CStrSize() - 1);
+  bool ok = true;
+  while (left > 0 && ok) {
+    const ssize_t n = write(fd, bytes, left);
+    if (n < 0 && errno == EINTR) continue;
+    ok = n > 0;
+    if (ok) {
+      bytes += n;
+      left -= static_cast<std::size_t>(n);
     }
+  }
+  ok = (fchmod(fd, 0644) == 0) && ok;
+  ok = (close(fd) == 0) && ok;
+  if (!ok) {
+    std::remove(temporary.c_str());
+    throw UrdfError(out_path + ": cannot write the file");
   }
   std::error_code rename_error;
   std::filesystem::rename(temporary, out_path, rename_error);

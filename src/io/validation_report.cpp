@@ -7,6 +7,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/diagnosis_html.hpp"
 #include "inertial/io/diagnosis_report.hpp"
+#include "inertial/estimation/outlier_rejection.hpp"
 #include "inertial/io/identification_report.hpp"
 
 namespace inertial {
@@ -30,16 +31,64 @@ nlohmann::json PerChannel(const std::vector<std::string>& channels, const Eigen:
   return j;
 }
 
+constexpr int kNamedRows = 3;
+
+// Keeps the finite rows of v.signals / v.predicted, naming the others; throws if none is left.
+void LeaveOutNonFinite(ModelValidation* v) {
+  const std::vector<int> bad = NonFiniteRows(v->predicted, v->signals);
+  if (bad.empty()) return;
+  const JointSamples& s = v->signals;
+  for (int k = 0; k < static_cast<int>(bad.size()) && k < kNamedRows; ++k) {
+    const int i = bad[k];
+    std::string what = "the model's prediction";
+    for (int j = 0; j < s.tau.cols(); ++j) {
+      if (!std::isfinite(s.tau(i, j))) what = "tau_" + v->channels[j];
+      if (!std::isfinite(s.qd(i, j))) what = "qd_" + v->channels[j];
+    }
+    v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + F(s.t[i], "%.10g") + " s): " + what +
+                                  " is not finite");
+  }
+  if (static_cast<int>(bad.size()) == s.size()) {
+    throw std::invalid_argument("no sample gives a finite prediction (first: " + v->left_out_reasons.front() +
+                                "): a coefficient or inertia of the model is too large, or the log's values are");
+  }
+  std::vector<int> keep;
+  for (int i = 0, b = 0; i < s.size(); ++i) {
+    if (b < static_cast<int>(bad.size()) && bad[b] == i) {
+      ++b;
+    } else {
+      keep.push_back(i);
+    }
+  }
+  Eigen::MatrixXd predicted(static_cast<int>(keep.size()), v->predicted.cols());
+  for (int r = 0; r < static_cast<int>(keep.size()); ++r) predicted.row(r) = v->predicted.row(keep[r]);
+  v->predicted = predicted;
+  v->signals = SelectSamples(s, keep);
+  v->left_out = static_cast<int>(bad.size());
+}
+
 }  // namespace
+
+std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data) {
+  std::vector<int> rows;
+  for (int i = 0; i < data.size(); ++i) {
+    if (!predicted.row(i).allFinite() || !data.q.row(i).allFinite() || !data.qd.row(i).allFinite() ||
+        !data.qdd.row(i).allFinite() || !data.tau.row(i).allFinite() || !std::isfinite(data.t[i])) {
+      rows.push_back(i);
+    }
+  }
+  return rows;
+}
 
 ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data) {
   ModelValidation v;
   v.channels = model.dof_names();
   v.unit = "N m";
   v.predicted = PredictJointTorques(model, x, data);
-  v.errors = CompareTorques(v.predicted, data.tau);
   v.signals = data;
-  v.residuals = AnalyzeResiduals(data, v.predicted, kWindowSeconds, kWorstWindows);
+  LeaveOutNonFinite(&v);
+  v.errors = CompareTorques(v.predicted, v.signals.tau);
+  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
   bool consistent = true;
   v.model_json["bodies"] = BodiesJson(model, x, &consistent);
   v.model_json["effects"] = EffectsJson(model, x);
@@ -66,8 +115,9 @@ ModelValidation ValidateBodyModel(const BodyEffectModel& model, const Eigen::Vec
     s.tau.row(i) = BodyEffectModel::MeasuredPair(data, i).transpose();
   }
   v.predicted = model.Residuals(x, data) + s.tau;
-  v.errors = CompareTorques(v.predicted, s.tau);
-  v.residuals = AnalyzeResiduals(s, v.predicted, kWindowSeconds, kWorstWindows);
+  LeaveOutNonFinite(&v);
+  v.errors = CompareTorques(v.predicted, v.signals.tau);
+  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
   const InertialParams body = model.Body(x);
   const ConsistencyReport report = CheckConsistency(body);
   v.physically_consistent = report.fully_consistent();
@@ -96,7 +146,12 @@ std::string ValidationText(const ModelValidation& v) {
     out << "  " << v.channels[k] << ": " << F(v.errors.rms[static_cast<int>(k)]) << " ("
         << Percent(v.errors.relative_rms[static_cast<int>(k)]) << ")\n";
   }
-  out << "  all: " << F(v.errors.total_rms) << " (" << Percent(v.errors.total_relative_rms) << ") " << v.unit << "\n\n";
+  out << "  all: " << F(v.errors.total_rms) << " (" << Percent(v.errors.total_relative_rms) << ") " << v.unit << "\n";
+  if (v.left_out > 0) {
+    out << "  left out: " << v.left_out << " samples whose measurement or prediction is not finite, e.g.\n";
+    for (const std::string& r : v.left_out_reasons) out << "    " << r << "\n";
+  }
+  out << "\n";
   out << WhereItFailsText(v.channels, v.residuals, "residual of the model") << "\n";
   out << (v.physically_consistent ? "Every body of the model is physically consistent.\n"
                                   : "SOME BODY OF THE MODEL IS NOT PHYSICALLY CONSISTENT.\n");
@@ -112,6 +167,7 @@ nlohmann::json ValidationJson(const ModelValidation& v) {
   j["relative_rms"] = PerChannel(v.channels, v.errors.relative_rms, v.errors.total_relative_rms);
   j["where_it_fails"] = WhereItFailsJson(v.channels, v.residuals);
   j["physically_consistent"] = v.physically_consistent;
+  j["left_out"] = {{"samples", v.left_out}, {"reasons", v.left_out_reasons}};
   return j;
 }
 

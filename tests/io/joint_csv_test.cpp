@@ -463,7 +463,8 @@ TEST(JointCsv, ReportsTheFileLineOfEverySample) {
 TEST(JointCsv, TimeStampsThatAreNotSecondsAreRefused) {
   EXPECT_EQ(ErrorOf(StampedLog(Stamps(1700000000123.0, 1.0, 5))),
             "log.csv: column 1 't': the time stamps do not look like seconds: median step 1, every stamp an integer; if "
-            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)");
+            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s) (if they are whole seconds, "
+            "--time-scale 1 accepts them)");
   EXPECT_EQ(ErrorOf(StampedLog(Stamps(1000.0, 2.0, 5))),
             "log.csv: column 1 't': the time stamps do not look like seconds: median step 2 (as seconds, slower than 1 Hz), "
             "every stamp an integer; if they are milliseconds, give --time-scale 1e-3 (a median step of 0.002 s)");
@@ -493,7 +494,8 @@ TEST(JointCsv, TimeStampsThatAreNotSecondsAreRefused) {
   // Whole seconds (1 Hz) are not a robot log either: integers.
   EXPECT_EQ(ErrorOf(StampedLog({"0", "1", "2"})),
             "log.csv: column 1 't': the time stamps do not look like seconds: median step 1, every stamp an integer; if "
-            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)");
+            "they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s) (if they are whole seconds, "
+            "--time-scale 1 accepts them)");
   // The same with the time in another column.
   const std::string moved = "q_j1,q_j2,qd_j1,qd_j2,qdd_j1,qdd_j2,tau_j1,tau_j2,t\n1,2,3,4,5,6,7,8,0\n1,2,3,4,5,6,7,8,1\n";
   EXPECT_TRUE(Contains(ErrorOf(moved), "log.csv: column 9 't': the time stamps do not look like seconds: median step 1")) << ErrorOf(moved);

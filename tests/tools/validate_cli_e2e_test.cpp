@@ -10,7 +10,10 @@
 #include "inertial/io/estimation_daemon.hpp"
 #include "inertial/io/estimator_state_file.hpp"
 #include "inertial/io/identification_report.hpp"
+#include "inertial/io/body_csv.hpp"
 #include "inertial/io/joint_csv.hpp"
+#include "inertial/model/rigid_body_simulation.hpp"
+#include "io/urdf_text.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -243,6 +246,57 @@ TEST(ValidateCli, ReportJsonAndPredictionsFollowTheContracts) {
                                       "--effect-values", "1"});
   EXPECT_EQ(bad.exit_code, 2) << Describe(bad);
   fs::remove_all(l.dir);
+}
+
+// Single-body data: the true body validates at the noise floor, a wrong one does not, and a
+// velocity bias the model states removes what it explains.
+TEST(ValidateCli, SingleBodyDataAgainstABody) {
+  const InertialParams body = InertialParams::FromMassComInertia(
+      0.7, Vector3(0.1, -0.2, 0.05), (Matrix3() << 0.3, 0.02, -0.01, 0.02, 0.25, 0.03, -0.01, 0.03, 0.4).finished());
+  std::vector<double> times;
+  for (int i = 0; i <= 4000; ++i) times.push_back(i / 100.0);
+  auto wrench = [](double t) {
+    Vector6 w;
+    for (int k = 0; k < 6; ++k) w[k] = std::sin(t + k * M_PI / 3);
+    return w;
+  };
+  const SimulationResult sim = SimulateRigidBody(body, Vector6::Zero(), wrench, times);
+  ASSERT_TRUE(sim.ok);
+  testing::Rng rng(5);
+  BodyLog log;
+  for (size_t i = 0; i < times.size(); ++i) {
+    TwistWrenchSample s;
+    s.t = times[i];
+    s.twist = sim.twists[i];
+    s.twist[0] += 0.1;  // a gyro bias of 0.1 rad/s on wx
+    s.wrench = wrench(times[i]);
+    for (int k = 0; k < 6; ++k) s.wrench[k] += rng.Normal(0.01);
+    log.samples.push_back(s);
+  }
+  const fs::path csv = testing::UniqueTempPath("body.csv");
+  WriteBodyCsv(csv.string(), log);
+  std::string pi;
+  for (int k = 0; k < 10; ++k) pi += (k ? " " : "") + testing::Num(body.vector()[k]);
+  auto total = [&](const std::vector<std::string>& extra, const std::string& body_pi) {
+    std::vector<std::string> args{"validate", "--body", "--pi", body_pi, "--data", csv.string(), "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const nlohmann::json j = Json(RunCli(args));
+    return j.value("rms", nlohmann::json::object()).value("total", -1.0);
+  };
+  const double without_bias = total({}, pi);
+  const double with_bias = total({"--effects", "velocity_bias", "--effect-values", "0.1 0 0 0 0 0"}, pi);
+  // The pairs' averaged wrench noise is 0.01 / sqrt(2); the midpoint rule adds its own small error.
+  EXPECT_LT(with_bias, 0.02);
+  EXPECT_GT(without_bias, 2 * with_bias);
+  std::string wrong;
+  for (int k = 0; k < 10; ++k) wrong += (k ? " " : "") + testing::Num(k == 0 ? 1.4 : 2 * body.vector()[k]);
+  EXPECT_GT(total({"--effects", "velocity_bias", "--effect-values", "0.1 0 0 0 0 0"}, wrong), 5 * with_bias);
+  const testing::CliRun bad = RunCli({"validate", "--body", "--pi", "1 0 0 0 1 1 5 0 0 0", "--data", csv.string()});
+  EXPECT_EQ(bad.exit_code, 4) << Describe(bad);
+  const testing::CliRun count = RunCli({"validate", "--body", "--pi", pi, "--data", csv.string(), "--effects",
+                                        "force_bias", "--effect-values", "1 2"});
+  EXPECT_EQ(count.exit_code, 2) << Describe(count);
+  fs::remove(csv);
 }
 
 }  // namespace

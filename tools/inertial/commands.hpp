@@ -72,7 +72,7 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);
 
 struct DiagnoseCommand {
-  std::string model, data, validate, effects, report_dir, prior;
+  std::string model, data, validate, effects, report_dir, prior, time_scale;
   std::string holdout;  ///< empty: 0.3 unless --validate
   bool body = false;
   bool hold_links = false;

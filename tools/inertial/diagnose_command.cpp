@@ -7,6 +7,7 @@
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/body_csv.hpp"
+#include "inertial/io/diagnosis_html.hpp"
 #include "inertial/io/diagnosis_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
@@ -47,6 +48,8 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
                   "robots: add the top suggestion and diagnose again, up to N times or until nothing is suggested");
   sub->add_option("--threads", c->threads, "robots: threads for the candidate fits (default 0: one per core)");
   sub->add_flag("--skip-bad-rows", c->skip_bad_rows, "skip (and count) malformed rows of robot logs");
+  sub->add_option("--time-scale", c->time_scale,
+                  "multiply the time stamps of --data and --validate by this to get seconds (1e-3 for ms, 1e-9 for ns)");
   sub->add_option("--report", c->report_dir, "write DIR/index.html (self-contained, with gnuplot figures)");
   sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
   return sub;
@@ -94,7 +97,7 @@ int SplitOrFail(const std::string& data, double holdout, const Log& all, Log* tr
   return kOk;
 }
 
-int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations) {
+int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations, double time_scale) {
   std::vector<BodyEffectKind> effects;
   try {
     effects = ParseBodyEffectList(c.effects);
@@ -127,9 +130,9 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   std::string source;
   try {
     std::vector<std::string> notices;
-    all = ReadBodyCsv(c.data, &notices);
+    all = ReadBodyCsv(c.data, &notices, time_scale);
     if (!c.validate.empty()) {
-      validation = ReadBodyCsv(c.validate, &notices);
+      validation = ReadBodyCsv(c.validate, &notices, time_scale);
       train = all;
       source = c.validate;
     }
@@ -168,13 +171,14 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   return WriteReport(c.report_dir, [&] { WriteBodyDiagnosisReport(c.report_dir, context, text); });
 }
 
-int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations) {
+int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations, double time_scale) {
   JointDiagnosisOptions options;
   options.min_explained = min_explained;
   options.hold_links = c.hold_links;
   options.fit.lm.max_iterations = max_iterations;
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;
+  csv.time_scale = time_scale;
   auto or_default = [](const std::string& text, const char* fallback) { return text.empty() ? std::string(fallback) : text; };
   int status = ParseRealOption(or_default(c.prior_weight, "0.01"), "--prior-weight", 0.0, 1e12, &options.fit.prior_weight);
   if (status == kOk) status = ParseInteger(or_default(c.sg_order, "4"), "--sg-order", 2, 10, &csv.differentiation.order);
@@ -264,10 +268,18 @@ int RunDiagnoseCommand(const DiagnoseCommand& c) {
   int status = c.holdout.empty() ? kOk : ParseRealOption(c.holdout, "--holdout", 1e-6, 1.0 - 1e-6, &holdout);
   if (status == kOk) status = ParseRealOption(c.min_explained, "--min-explained", 1e-9, 1.0, &min_explained);
   if (status == kOk) status = ParseInteger(c.max_iterations, "--max-iterations", 1, 100000, &max_iterations);
+  double time_scale = 0.0;
+  if (status == kOk && !c.time_scale.empty()) {
+    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &time_scale);
+  }
+  if (status == kOk) {
+    status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(),
+                                    {{"--data", c.data}, {"--validate", c.validate}, {"--model", c.model}});
+  }
   if (status == kOk) status = PrepareReportDirectory(c.report_dir);
   if (status != kOk) return status;
-  return c.body ? RunBody(c, holdout, min_explained, max_iterations)
-                : RunRobot(c, holdout, min_explained, max_iterations);
+  return c.body ? RunBody(c, holdout, min_explained, max_iterations, time_scale)
+                : RunRobot(c, holdout, min_explained, max_iterations, time_scale);
 }
 
 }  // namespace inertial::cli

@@ -90,4 +90,22 @@ inline int RefuseOverwritingInputs(const std::vector<PathOption>& outputs, const
   return kOk;
 }
 
+// A report directory must not hold an input under a name the report writes (it would be replaced):
+// kUsage with the error printed, else kOk.
+inline int RefuseReportOverInputs(const std::string& report_dir, const std::vector<std::string>& report_files,
+                                  const std::vector<PathOption>& inputs) {
+  if (report_dir.empty()) return kOk;
+  for (const std::string& name : report_files) {
+    const std::string written = (std::filesystem::path(report_dir) / name).string();
+    for (const auto& [option, in] : inputs) {
+      if (!in.empty() && SameFile(written, in)) {
+        std::cerr << "Error: --report " << report_dir << " would write " << name << ", which is the " << option
+                  << " input '" << in << "': refusing to overwrite an input (choose another report directory)\n";
+        return kUsage;
+      }
+    }
+  }
+  return kOk;
+}
+
 }  // namespace inertial::cli

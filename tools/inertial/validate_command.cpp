@@ -9,6 +9,7 @@
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/body_csv.hpp"
+#include "inertial/io/diagnosis_html.hpp"
 #include "inertial/io/model_file.hpp"
 #include "inertial/io/validation_report.hpp"
 #include "option_parsing.hpp"
@@ -132,12 +133,24 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
   std::vector<ModelEffect> added;
   status = AddedEffects(c.effects, c.effect_values, robot, &added);
   if (status != kOk) return status;
-  for (const ModelEffect& a : added) {  // an added effect replaces the file's of the same kind on the same target
-    effects.erase(std::remove_if(effects.begin(), effects.end(),
-                                 [&](const ModelEffect& f) { return f.spec.kind == a.spec.kind && f.spec.target == a.spec.target; }),
-                  effects.end());
-    effects.push_back(a);
+  for (std::size_t i = 0; i < added.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (added[k].spec.kind == added[i].spec.kind && added[k].spec.target == added[i].spec.target) {
+        std::cerr << "Error: --effects: " << ToString(added[i].spec.kind) << "@" << added[i].spec.target
+                  << " is given twice\n";
+        return kUsage;
+      }
+    }
   }
+  // An added effect replaces the file's of the same kind on the same target.
+  effects.erase(std::remove_if(effects.begin(), effects.end(),
+                               [&](const ModelEffect& f) {
+                                 return std::any_of(added.begin(), added.end(), [&](const ModelEffect& a) {
+                                   return f.spec.kind == a.spec.kind && f.spec.target == a.spec.target;
+                                 });
+                               }),
+                effects.end());
+  effects.insert(effects.end(), added.begin(), added.end());
   std::vector<EffectSpec> specs;
   for (const ModelEffect& m : effects) specs.push_back(m.spec);
   std::optional<RobotDynamics> model;
@@ -146,13 +159,19 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
     model.emplace(MakeRobotDynamics(robot, specs, gravity));
     x = model->ParametersFromEffectValues(effects);
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: " << c.model << ": " << e.what() << "\n";
+    std::cerr << "Error: " << c.model << (c.effects.empty() ? "" : " with --effects " + c.effects) << ": " << e.what() << "\n";
     return kUsage;
   }
   JointSamples data;
   status = ReadRobotLog(c.data, robot, csv, &data);
   if (status != kOk) return status;
-  ModelValidation v = ValidateJointModel(*model, x, data);
+  ModelValidation v;
+  try {
+    v = ValidateJointModel(*model, x, data);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << c.model << " on " << c.data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
   v.model_source = c.model;
   for (const ModelEffect& m : effects) {
     v.model_source += (&m == &effects.front() ? " with " : ", ") + std::string(ToString(m.spec.kind)) + "@" + m.spec.target;
@@ -202,7 +221,13 @@ int RunBody(const ValidateCommand& c, double time_scale) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
   }
-  ModelValidation v = ValidateBodyModel(model, x, log);
+  ModelValidation v;
+  try {
+    v = ValidateBodyModel(model, x, log);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --pi on " << c.data << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
   v.model_source = "the body --pi";
   for (BodyEffectKind k : kinds) v.model_source += " + " + std::string(ToString(k));
   v.data_source = c.data;
@@ -227,6 +252,9 @@ int RunValidateCommand(const ValidateCommand& c) {
   }
   int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--report", c.report_dir}},
                                        {{"--data", c.data}, {"--model", c.model}});
+  if (status == kOk) {
+    status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(), {{"--data", c.data}, {"--model", c.model}});
+  }
   if (status != kOk) return status;
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;

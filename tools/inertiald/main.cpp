@@ -72,13 +72,6 @@ int main(int argc, char** argv) {
     std::cerr << "Error: --write-urdf needs --model (a single body has no URDF; its estimate is in estimate_t)\n";
     return 2;
   }
-  if (!write_urdf.empty() && !model_path.empty()) {
-    std::error_code ec;
-    if (std::filesystem::exists(write_urdf, ec) && std::filesystem::equivalent(write_urdf, model_path, ec)) {
-      std::cerr << "Error: --write-urdf '" << write_urdf << "' is the --model input: refusing to overwrite an input\n";
-      return 2;
-    }
-  }
   if (can_interface.empty() != can_config.empty() || (body && !can_interface.empty())) {
     std::cerr << "Error: --can and --can-config go together, with --model\n";
     return 2;
@@ -124,6 +117,32 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // The files the daemon writes must not be any of its inputs (nor each other).
+  {
+    auto same = [](const std::string& a, const std::string& b) {
+      if (a.empty() || b.empty()) return false;
+      std::error_code ec;
+      if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
+      return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+    };
+    const std::pair<const char*, std::string> outputs[] = {{"--checkpoint", options.checkpoint_path},
+                                                           {"--write-urdf", write_urdf}};
+    const std::pair<const char*, std::string> inputs[] = {
+        {"--model", model_path}, {"--config", config_path}, {"--can-config", can_config}};
+    for (const auto& [out_option, out] : outputs) {
+      for (const auto& [in_option, in] : inputs) {
+        if (same(out, in)) {
+          std::cerr << "Error: " << out_option << " '" << out << "' is the " << in_option
+                    << " input: refusing to overwrite an input\n";
+          return 2;
+        }
+      }
+    }
+    if (same(options.checkpoint_path, write_urdf)) {
+      std::cerr << "Error: --checkpoint and --write-urdf name the same file '" << write_urdf << "'\n";
+      return 2;
+    }
+  }
   std::unique_ptr<EstimationDaemon> daemon;
   RobotModel robot;
   try {

@@ -95,10 +95,6 @@ struct FitUncertainty {
   std::vector<std::vector<double>> effects;
 };
 
-/// L with pi in body's report frame = L pi in its tree body's frame (RobotDynamics::BodyInertia is
-/// linear in pi: the pseudo-inertia moves as J_A = T J_B T^T). Also for online covariances.
-Matrix10 ReportFrameMap(const EstimatedBody& body);
-
 /// The linear map L from a body's pi in its tree body's frame to its pi in its report frame
 /// (EstimatedBody::report_frame): RobotDynamics::BodyInertia(e, x) = L pi_tree(theta_e), so a
 /// covariance C of pi_tree becomes L C L^T (10 x 10, exact: pi moves linearly under a rigid

@@ -45,6 +45,10 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
                         const std::vector<std::string>& summary, const std::vector<DiagnosisTableRow>& rows,
                         const std::string& text_report);
 
+/// The names of the files WriteDiagnosisHtml writes into its directory (index.html, the figures,
+/// their data and gnuplot scripts), e.g. to refuse a directory that holds an input under one of them.
+const std::vector<std::string>& DiagnosisReportFileNames();
+
 /// RFC 4648 base64 of bytes (for data: URIs).
 std::string Base64(const std::string& bytes);
 

@@ -26,6 +26,7 @@ struct IdentificationRun {
   JointIdentificationResult fit;
   double fit_seconds = 0.0;            ///< regressor, A^T A and LM, every round of the outlier screening
   int train_samples = 0, validation_samples = 0;
+  int validation_left_out = 0;  ///< validation rows with a non-finite value or prediction, not in its errors
   double prior_weight = 0.0;           ///< gamma of eq. 14 used
   /// prior_*: the URDF's bodies without any effect; fit_*: the identified model.
   TorqueErrors prior_train, fit_train;

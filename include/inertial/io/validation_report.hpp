@@ -35,9 +35,18 @@ struct ModelValidation {
   ResidualAnalysis residuals;
   nlohmann::json model_json;  ///< the model's bodies / body and effects, as identify's JSON shows them
   bool physically_consistent = true;
+  /// Samples left out of the errors because their measurement or the model's prediction is not
+  /// finite (a glitch such as qd = 1e300 in the log), with the first few named.
+  int left_out = 0;
+  std::vector<std::string> left_out_reasons;
 };
 
-/// The robot model at x on `data`. @throws std::invalid_argument if the data do not fit the model.
+/// The rows (ascending) where `predicted` or any of data's q, qd, qdd, tau is not finite.
+std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data);
+
+/// The robot model at x on `data`; samples with a non-finite measurement or prediction are left
+/// out of the errors and named. @throws std::invalid_argument if the data do not fit the model, or
+/// no sample is left (naming why: e.g. a coefficient of the model so large that every prediction overflows).
 ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data);
 /// The single-body model at x on `data` (at least 2 samples). @throws std::invalid_argument likewise.
 ModelValidation ValidateBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data);
