@@ -265,6 +265,16 @@ double ChauvenetThreshold(long long n) {
   return std::max(kMinimumThreshold, 0.5 * (lo + hi));
 }
 
+double HeavyTailThreshold(long long n) {
+  if (n < 1) throw std::invalid_argument("HeavyTailThreshold: the number of residuals must be at least 1");
+  // Laplace residuals of scale b: MAD = b ln 2, robust sd s = 1.4826 b ln 2, and
+  // P(|r| > k s) = exp(-k 1.4826 ln 2). Expected wrongly rejected residuals n P = 0.01 gives k.
+  const double rate = 1.4826 * std::log(2.0);
+  return std::log(static_cast<double>(n) / kExpectedFalseRejections) / rate;
+}
+
+double DefaultOutlierThreshold(long long n) { return std::max(ChauvenetThreshold(n), HeavyTailThreshold(n)); }
+
 RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, const JointSamples& data,
                                                     const JointIdentificationOptions& options,
                                                     const OutlierOptions& outliers) {
@@ -319,7 +329,7 @@ RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, 
 
   // Step 2: the prior's residuals.
   const double k = outliers.threshold > 0.0 ? outliers.threshold
-                                            : ChauvenetThreshold(static_cast<long long>(candidates.size()) * n);
+                                            : DefaultOutlierThreshold(static_cast<long long>(candidates.size()) * n);
   const Eigen::VectorXd floor = ScaleFloor(data, candidates, k);
   Classification current = Classify(data, candidates, residuals, k, floor, "prior");
 

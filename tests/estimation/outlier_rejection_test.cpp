@@ -121,6 +121,19 @@ TEST(OutlierRejection, ChauvenetThresholdMatchesNormalTables) {
   EXPECT_THROW(ChauvenetThreshold(0), std::invalid_argument);
 }
 
+// The heavy-tailed (Laplace) bound: n exp(-1.4826 ln2 k) = 0.01, checked by putting k back in; it
+// is the default wherever it exceeds the Gaussian one (every n of a real log).
+TEST(OutlierRejection, HeavyTailThresholdLeavesAHundredthOfALaplaceResidual) {
+  for (long long n : {1000LL, 30003LL, 35189LL, 3000000LL}) {
+    const double k = HeavyTailThreshold(n);
+    EXPECT_NEAR(static_cast<double>(n) * std::exp(-1.4826 * std::log(2.0) * k), 0.01, 1e-12) << n;
+    EXPECT_EQ(DefaultOutlierThreshold(n), std::max(k, ChauvenetThreshold(n)));
+    EXPECT_GT(k, ChauvenetThreshold(n));
+  }
+  EXPECT_NEAR(HeavyTailThreshold(30003), 14.52, 0.01);
+  EXPECT_THROW(HeavyTailThreshold(0), std::invalid_argument);
+}
+
 TEST(OutlierRejection, SelectSamplesCopiesRowsInOrder) {
   Rng rng(1);
   const Case c = MakeCase();
@@ -149,7 +162,7 @@ TEST(OutlierRejection, CleanDataLosesNoRow) {
                                              << (r.outliers.reasons.empty() ? "" : r.outliers.reasons[0]);
     EXPECT_TRUE(r.outliers.settled);
     EXPECT_EQ(r.outliers.rounds, 1);
-    EXPECT_EQ(r.outliers.threshold, 5.0);  // 12000 residuals: the floor
+    EXPECT_EQ(r.outliers.threshold, DefaultOutlierThreshold(12000));  // 12000 residuals
     EXPECT_TRUE(r.fit.lm.converged());
     const JointIdentificationResult plain = IdentifyJointModel(c.model, AccumulateNormalEquations(c.model, train));
     EXPECT_EQ(r.fit.x, plain.x);
@@ -250,8 +263,10 @@ TEST(OutlierRejection, RowsRejectedByThePriorComeBack) {
                                                train.qdd.row(i).transpose()).transpose();
     for (int j = 0; j < 3; ++j) train.tau(i, j) += 0.2 * rng.Normal();
   }
+  // k = 5 (the Gaussian bound of this log's 12000 residuals): the prior's round rejects fast rows.
   OutlierOptions one_round;
   one_round.max_rounds = 1;
+  one_round.threshold = 5.0;
   const RobustIdentificationResult first = IdentifyJointModelRobust(c.model, train, {}, one_round);
   // One fit: the rows the prior rejected (seen: 79, all fast ones) stay out, and the report says the
   // set did not settle.
@@ -263,7 +278,9 @@ TEST(OutlierRejection, RowsRejectedByThePriorComeBack) {
   EXPECT_FALSE(first.outliers.settled);
   EXPECT_EQ(first.equations.num_samples, 4000 - static_cast<int>(first.outliers.rejected.size()));
   // Rounds until settled: every row is back, and the fit is that of all rows.
-  const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, train, {});
+  OutlierOptions gaussian;
+  gaussian.threshold = 5.0;
+  const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, train, {}, gaussian);
   EXPECT_TRUE(r.outliers.rejected.empty()) << FirstReason(r.outliers);
   EXPECT_EQ(r.outliers.rounds, 2);
   EXPECT_TRUE(r.outliers.settled);
