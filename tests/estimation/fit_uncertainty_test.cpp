@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
+#include "estimation/leg_chain.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -80,29 +81,11 @@ TEST(MassComInertiaAboutCom, UncertaintyOfGivesInertiaAboutComStd) {
   }
 }
 
-const std::vector<std::string> kJoints = {"abad", "hip", "knee"};
-
-// A leg-like chain (ab/ad about x, hip and knee about y), as in joint_identification_test.cpp.
-KinematicTree Leg() {
-  const InertialParams links[3] = {
-      SolidBox(1.8, 0.12, 0.08, 0.08, Pose{Matrix3::Identity(), Vector3(0.0, 0.04, 0)}),
-      SolidBox(1.5, 0.06, 0.06, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0.02, -0.12)}),
-      SolidCylinder(0.5, 0.015, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.16)})};
-  const Vector3 origin[3] = {Vector3(0.2, 0.1, 0), Vector3(0, 0.06, 0), Vector3(0, 0, -0.34)};
-  const Vector3 axis[3] = {Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitY()};
-  KinematicTree tree;
-  for (int i = 0; i < 3; ++i) {
-    JointModel j;
-    j.name = kJoints[i];
-    j.p_parent_joint = origin[i];
-    j.axis = axis[i];
-    tree.AddBody(kJoints[i] + "_link", i - 1, j, links[i]);
-  }
-  return tree;
-}
+const std::vector<std::string>& kJoints = testing::kLegJoints;
+KinematicTree Leg() { return testing::LegChain(testing::LegPriorLinks()); }
 
 RobotDynamics LegModel(const std::string& effects) {
-  return RobotDynamics(Leg(), kJoints, ParseEffectList(effects), [](const std::string&, LinkLocation*) { return false; });
+  return RobotDynamics(Leg(), kJoints, ParseEffectList(effects), testing::NoLinks());
 }
 
 // Samples along a sum of sinusoids (exact derivatives), torques from the model at x_true plus

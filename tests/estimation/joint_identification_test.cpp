@@ -7,6 +7,7 @@
 
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "estimation/leg_chain.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -14,39 +15,11 @@ namespace {
 
 using testing::Rng;
 
-const std::vector<std::string> kJoints = {"abad", "hip", "knee"};
-
-// A leg-like chain (ab/ad about x, hip and knee about y) with the given link inertias.
-KinematicTree Leg(const std::vector<InertialParams>& links) {
-  KinematicTree tree;
-  const Vector3 origin[3] = {Vector3(0.2, 0.1, 0), Vector3(0, 0.06, 0), Vector3(0, 0, -0.34)};
-  const Vector3 axis[3] = {Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitY()};
-  for (int i = 0; i < 3; ++i) {
-    JointModel j;
-    j.name = kJoints[i];
-    j.p_parent_joint = origin[i];
-    j.axis = axis[i];
-    tree.AddBody(kJoints[i] + "_link", i - 1, j, links[i]);
-  }
-  return tree;
-}
-
-std::vector<InertialParams> PriorLinks() {
-  return {SolidBox(1.8, 0.12, 0.08, 0.08, Pose{Matrix3::Identity(), Vector3(0.0, 0.04, 0)}),
-          SolidBox(1.5, 0.06, 0.06, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0.02, -0.12)}),
-          SolidCylinder(0.5, 0.015, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.16)})};
-}
-
-// The truth differs from the prior by 10-30 % in mass and by centimetres in COM.
-std::vector<InertialParams> TrueLinks() {
-  return {SolidBox(2.1, 0.13, 0.07, 0.09, Pose{Matrix3::Identity(), Vector3(0.01, 0.05, -0.01)}),
-          SolidBox(1.3, 0.07, 0.05, 0.36, Pose{Matrix3::Identity(), Vector3(0.01, 0.015, -0.14)}),
-          SolidCylinder(0.62, 0.02, 0.32, Pose{Matrix3::Identity(), Vector3(0.005, 0, -0.19)})};
-}
-
-LinkResolver NoLinks() {
-  return [](const std::string&, LinkLocation*) { return false; };
-}
+const std::vector<std::string>& kJoints = testing::kLegJoints;
+KinematicTree Leg(const std::vector<InertialParams>& links) { return testing::LegChain(links); }
+std::vector<InertialParams> PriorLinks() { return testing::LegPriorLinks(); }
+std::vector<InertialParams> TrueLinks() { return testing::LegTrueLinks(); }
+using testing::NoLinks;
 
 // Samples along a sum of sinusoids (exact derivatives), torques from `truth` plus Gaussian noise.
 JointSamples Excite(const RobotDynamics& truth, const Eigen::VectorXd& x_true, int N, double dt, double noise,

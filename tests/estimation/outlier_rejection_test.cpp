@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
+#include "estimation/leg_chain.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -15,40 +16,13 @@ namespace {
 
 using testing::Rng;
 
-const std::vector<std::string> kJoints = {"abad", "hip", "knee"};
+const std::vector<std::string>& kJoints = testing::kLegJoints;
+KinematicTree Leg(const std::vector<InertialParams>& links) { return testing::LegChain(links); }
+std::vector<InertialParams> PriorLinks() { return testing::LegPriorLinks(); }
+std::vector<InertialParams> TrueLinks() { return testing::LegTrueLinks(); }
+using testing::NoLinks;
 
 bool Contains(const std::string& text, const std::string& fragment) { return text.find(fragment) != std::string::npos; }
-
-// A leg-like chain (ab/ad about x, hip and knee about y), as in joint_identification_test.cpp.
-KinematicTree Leg(const std::vector<InertialParams>& links) {
-  KinematicTree tree;
-  const Vector3 origin[3] = {Vector3(0.2, 0.1, 0), Vector3(0, 0.06, 0), Vector3(0, 0, -0.34)};
-  const Vector3 axis[3] = {Vector3::UnitX(), Vector3::UnitY(), Vector3::UnitY()};
-  for (int i = 0; i < 3; ++i) {
-    JointModel j;
-    j.name = kJoints[i];
-    j.p_parent_joint = origin[i];
-    j.axis = axis[i];
-    tree.AddBody(kJoints[i] + "_link", i - 1, j, links[i]);
-  }
-  return tree;
-}
-
-std::vector<InertialParams> PriorLinks() {
-  return {SolidBox(1.8, 0.12, 0.08, 0.08, Pose{Matrix3::Identity(), Vector3(0.0, 0.04, 0)}),
-          SolidBox(1.5, 0.06, 0.06, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0.02, -0.12)}),
-          SolidCylinder(0.5, 0.015, 0.34, Pose{Matrix3::Identity(), Vector3(0, 0, -0.16)})};
-}
-
-std::vector<InertialParams> TrueLinks() {
-  return {SolidBox(2.1, 0.13, 0.07, 0.09, Pose{Matrix3::Identity(), Vector3(0.01, 0.05, -0.01)}),
-          SolidBox(1.3, 0.07, 0.05, 0.36, Pose{Matrix3::Identity(), Vector3(0.01, 0.015, -0.14)}),
-          SolidCylinder(0.62, 0.02, 0.32, Pose{Matrix3::Identity(), Vector3(0.005, 0, -0.19)})};
-}
-
-LinkResolver NoLinks() {
-  return [](const std::string&, LinkLocation*) { return false; };
-}
 
 struct Case {
   RobotDynamics model, truth;
