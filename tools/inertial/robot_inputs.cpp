@@ -1,5 +1,6 @@
 #include "robot_inputs.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "exit_codes.hpp"
@@ -48,6 +49,20 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
   const int status = LoadRobotModel(urdf, robot);
   if (status != kOk) return status;
   *effects = MergeEffects(robot->DeclaredEffects(), *effects);
+  // Bare <dynamics> values (not declared in <inertial_effects>) are not fitted: say so.
+  std::string unfitted;
+  for (const ModelEffect& m : robot->effects) {
+    if (m.spec.text.find("<dynamics>") == std::string::npos) continue;
+    const bool covered = std::any_of(effects->begin(), effects->end(), [&](const EffectSpec& e) {
+      return e.kind == m.spec.kind && (e.target == m.spec.target || e.target.empty());
+    });
+    if (!covered) unfitted += (unfitted.empty() ? "" : ", ") + std::string(ToString(m.spec.kind)) + "@" + m.spec.target;
+  }
+  if (!unfitted.empty()) {
+    std::cerr << "note: " << urdf << " states <dynamics> values (" << unfitted
+              << ") that are not part of the fitted model; add them with --effects to fit them (validate uses them as "
+                 "stated)\n";
+  }
   try {
     model->emplace(MakeRobotDynamics(*robot, *effects, gravity));
   } catch (const std::invalid_argument& e) {
