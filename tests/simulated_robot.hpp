@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
+#include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/joint_simulation.hpp"
 #include "inertial/model/robot_dynamics.hpp"
@@ -56,15 +59,45 @@ inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::Vecto
   return s;
 }
 
-/// The truth: every body's theta uniform in [-0.25, 0.25] (masses within about +-40 %, COM shifts
-/// of centimetres); effect coefficients from `effect_values`, cycled.
+/// The truth: every body's theta uniform in [-spread, spread] (0.25: masses within about +-40 %,
+/// COM shifts of centimetres; 0.1: within about +-20 %, the ordinary error of a CAD model); effect
+/// coefficients from `effect_values`, cycled.
 inline Eigen::VectorXd TrueParameters(const RobotDynamics& model, const std::vector<double>& effect_values,
-                                      std::uint64_t seed) {
+                                      std::uint64_t seed, double spread = 0.25) {
   Rng rng(seed);
   Eigen::VectorXd coeffs(model.num_features() - model.num_inertia_features());
   for (int k = 0; k < coeffs.size(); ++k) coeffs[k] = effect_values[k % effect_values.size()];
   Eigen::VectorXd x = model.ParametersFromEffectCoefficients(coeffs);
-  for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) x[i] = rng.Uniform(-0.25, 0.25);
+  for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) x[i] = rng.Uniform(-spread, spread);
+  return x;
+}
+
+/// The truth as a CAD model's ordinary error makes it: every body's mass times U(0.8, 1.25), its COM
+/// moved by up to 0.3 of its size (rho0 = sqrt(tr(Sigma0) / m0), centimetres for a leg's links) in a
+/// random direction, its principal second moments times U(0.7, 1.4) each (departure factors up to
+/// about 1.4, inside the diagnosis's prior tolerance); effect coefficients as TrueParameters.
+inline Eigen::VectorXd CadErrorParameters(const RobotDynamics& model, const std::vector<double>& effect_values,
+                                          std::uint64_t seed) {
+  Eigen::VectorXd x = TrueParameters(model, effect_values, seed, 0.0);
+  Rng rng(seed + 100);
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const InertialParams& prior = model.bodies()[e].prior;
+    const Matrix3 I0 = prior.rotational_inertia_about_com();
+    const Matrix3 sigma0 = 0.5 * I0.trace() * Matrix3::Identity() - I0;
+    const Eigen::SelfAdjointEigenSolver<Matrix3> eig(sigma0);
+    Matrix3 R = eig.eigenvectors();
+    if (R.determinant() < 0) R.col(0) = -R.col(0);
+    const double rho0 = std::sqrt(sigma0.trace() / prior.mass());
+    Vector3 direction = rng.UniformVector<3>(-1, 1);
+    direction /= std::max(direction.norm(), 1e-9);
+    const Vector3 com = prior.com() + rng.Uniform(0, 0.3) * rho0 * direction;
+    Vector3 L = eig.eigenvalues();
+    for (int k = 0; k < 3; ++k) L[k] *= rng.Uniform(0.7, 1.4);
+    const double m = prior.mass() * rng.Uniform(0.8, 1.25);
+    // Second moments per unit mass kept, scaled: L is a mass-weighted quantity.
+    const InertialParams body = BodyFromSecondMoments(m, L * (m / prior.mass()), Pose{R, com});
+    x.segment<10>(10 * static_cast<int>(e)) = model.bodies()[e].map.ThetaOf(body);
+  }
   return x;
 }
 

@@ -30,6 +30,11 @@ ScaledHessian DecomposeScaled(const Eigen::MatrixXd& H) {
   const int n = static_cast<int>(H.rows());
   ScaledHessian s;
   s.inv_sqrt_diag.resize(n);
+  if (n == 0) {  // nothing estimated (every body frozen, no effect): Eigen's solver needs a matrix
+    s.pseudo_inverse.resize(0, 0);
+    s.undetermined.resize(0, 0);
+    return s;
+  }
   for (int i = 0; i < n; ++i) s.inv_sqrt_diag[i] = H(i, i) > 0.0 ? 1.0 / std::sqrt(H(i, i)) : 1.0;
   const Eigen::MatrixXd Hs = s.inv_sqrt_diag.asDiagonal() * H * s.inv_sqrt_diag.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Hs);
@@ -148,6 +153,7 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   // Bodies: every quantity through its gradient with respect to theta_e.
   u.bodies.assign(B, BodyUncertainty());
   u.body_held.assign(B, BodyHeldByPrior());
+  u.body_pi_covariance.assign(B, Matrix10::Zero());
   for (int e = 0; e < B; ++e) {
     if (frozen(e)) continue;
     const EstimatedBody& body = model.bodies()[e];
@@ -158,7 +164,8 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
     const InertialParams in_report = model.BodyInertia(e, x);
     const Matrix10 C_theta = C_free.block<10, 10>(first, first);
     BodyUncertainty& bu = u.bodies[e];
-    bu = UncertaintyOf(in_report, J_piReport_theta * C_theta * J_piReport_theta.transpose());
+    u.body_pi_covariance[e] = J_piReport_theta * C_theta * J_piReport_theta.transpose();
+    bu = UncertaintyOf(in_report, u.body_pi_covariance[e]);
 
     // Rows of d(quantity)/d(pi_report): mass, COM and I_C from J_mci_pi, then I_O entries.
     Matrix10 J_mci_pi;

@@ -1,9 +1,14 @@
 #include "inertial/estimation/joint_diagnosis.hpp"
 
+#include <Eigen/Cholesky>
+
 #include "inertial/estimation/explained_error.hpp"
+#include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/trajectory_overlap.hpp"
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -30,13 +35,76 @@ JointNormalEquations Restrict(const JointNormalEquations& eq, const std::vector<
   return out;
 }
 
-std::vector<bool> FrozenBodies(const RobotDynamics& model, bool hold_links) {
-  std::vector<bool> frozen(model.bodies().size(), false);
-  if (!hold_links) return frozen;
-  // Links are the estimated bodies named after a URDF link; rotors ("rotor@j") and payloads
-  // ("payload@l") stay free.
-  for (size_t e = 0; e < frozen.size(); ++e) frozen[e] = model.bodies()[e].name.find('@') == std::string::npos;
+// Links are the estimated bodies named after a URDF link; rotors ("rotor@j") and payloads
+// ("payload@l") are not.
+std::vector<bool> LinkBodies(const RobotDynamics& model) {
+  std::vector<bool> links(model.bodies().size(), false);
+  for (size_t e = 0; e < links.size(); ++e) links[e] = model.bodies()[e].name.find('@') == std::string::npos;
+  return links;
+}
+
+// hold_links: every link held at its URDF; else only `held_link` (a payload candidate's link), if any.
+// The links that payload candidates among `effects` hold at their URDF (free-link mode).
+std::set<std::string> HeldLinks(const std::vector<EffectSpec>& effects, const std::set<std::string>& payload_tests) {
+  std::set<std::string> held;
+  for (const EffectSpec& e : effects) {
+    if (e.kind == EffectKind::kPayload && payload_tests.count(e.target) > 0) held.insert(e.target);
+  }
+  return held;
+}
+
+// hold_links: every link held at its URDF; else only the links in `held` (payload candidates' links).
+std::vector<bool> FrozenBodies(const RobotDynamics& model, bool hold_links, const std::set<std::string>& held = {}) {
+  std::vector<bool> frozen = LinkBodies(model);
+  for (size_t e = 0; e < frozen.size(); ++e) {
+    frozen[e] = frozen[e] && (hold_links || held.count(model.bodies()[e].name) > 0);
+  }
   return frozen;
+}
+
+int CandidateParameters(EffectKind kind) {
+  return kind == EffectKind::kPayload ? 10 : (kind == EffectKind::kSpring ? 2 : 1);
+}
+
+
+// Every estimated body of the fit against its prior, both in the body's report frame.
+std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const JointNormalEquations& eq,
+                                             const Eigen::VectorXd& x, const JointIdentificationOptions& options,
+                                             std::vector<BodyUncertainty>* stds) {
+  FitUncertainty u;
+  try {
+    u = EstimateFitUncertainty(model, eq, x, options.prior_weight, options.frozen_bodies);
+  } catch (const std::invalid_argument&) {
+    // No residual degrees of freedom: no margins.
+  }
+  *stds = u.bodies;
+  std::vector<BodyPlausibility> out;
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const int i = static_cast<int>(e);
+    Eigen::VectorXd x_prior = x;
+    x_prior.segment<10>(10 * i).setZero();
+    const InertialParams prior = model.BodyInertia(i, x_prior);
+    DepartureMargins margins;
+    if (e < u.bodies.size() && e < u.body_pi_covariance.size()) {
+      margins.mass = kDepartureMargin * u.bodies[e].mass;
+      // The first moment about the prior's COM, m c - m c0 = h - m c0: linear in pi.
+      Eigen::Matrix<double, 3, 10> T = Eigen::Matrix<double, 3, 10>::Zero();
+      T.col(0) = -prior.com();
+      T.block<3, 3>(0, 1).setIdentity();
+      margins.first_moment = kDepartureMargin * kDepartureMargin * T * u.body_pi_covariance[e] * T.transpose();
+      margins.inertia_about_com = kDepartureMargin * u.bodies[e].inertia_about_com;
+    }
+    try {
+      out.push_back(MeasurePlausibility(model.BodyInertia(i, x), prior, margins));
+    } catch (const std::invalid_argument&) {
+      // A body at the edge of the map's range (pi not finite or singular): as implausible as can be.
+      BodyPlausibility p;
+      p.factor = p.raw_factor = std::numeric_limits<double>::infinity();
+      p.divergence = std::numeric_limits<double>::infinity();
+      out.push_back(p);
+    }
+  }
+  return out;
 }
 
 // One model to fit on restricted statistics.
@@ -46,6 +114,8 @@ struct Job {
   JointIdentificationOptions options;
   JointIdentificationResult fit;
   TorqueErrors validation;
+  std::vector<BodyPlausibility> plausibility;
+  std::vector<BodyUncertainty> stds;  // per estimated body (empty without residual degrees of freedom)
 };
 
 void RunJob(Job* job, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation) {
@@ -58,6 +128,7 @@ void RunJob(Job* job, const JointNormalEquations& train, const std::vector<Joint
   v.reserve(validation.size());
   for (const JointNormalEquations& e : validation) v.push_back(Restrict(e, job->features));
   job->validation = ErrorsFromNormalEquations(v, job->model->Coefficients(job->fit.x));
+  job->plausibility = PlausibilityOf(*job->model, eq, job->fit.x, job->options, &job->stds);
 }
 
 void RunJobs(std::vector<Job>& jobs, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation,
@@ -112,6 +183,11 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   const auto start = std::chrono::steady_clock::now();
   JointDiagnosis out;
   out.effects = effects;
+  if (!(options.prior_tolerance > 0.0) || !std::isfinite(options.prior_tolerance)) {
+    throw std::invalid_argument("diagnosis: the prior tolerance must be a positive number, not " +
+                                std::to_string(options.prior_tolerance));
+  }
+  out.prior_tolerance = options.prior_tolerance;
   const RobotDynamics base = make(effects);
   if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
     throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
@@ -139,19 +215,18 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
       candidates.push_back(s);
     }
   }
+  // Payload candidates come after the model's fit (with free links, only on links it bends).
+  const auto payload_candidate = [&](const std::string& link) {
+    EffectSpec s;
+    s.kind = EffectKind::kPayload;
+    s.target = link;
+    s.text = "payload@" + link;
+    return s;
+  };
   if (options.hold_links) {
     for (const std::string& link : payload_links) {
-      if (payloads_present.count(link) > 0) continue;
-      EffectSpec s;
-      s.kind = EffectKind::kPayload;
-      s.target = link;
-      s.text = "payload@" + link;
-      candidates.push_back(s);
+      if (payloads_present.count(link) == 0) candidates.push_back(payload_candidate(link));
     }
-  } else if (!payload_links.empty()) {
-    out.notes.push_back(
-        "payload candidates not tested: with free links a payload is indistinguishable from a change of its "
-        "link's inertia, which the fit already identifies (hold the links at the URDF to test for payloads)");
   }
 
   // One model with every joint candidate: its features hold every model's features.
@@ -187,6 +262,49 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   out.frozen_bodies = base_job[0].options.frozen_bodies;
   out.fit = base_job[0].fit;
   out.fit_validation = base_job[0].validation;
+  out.plausibility = base_job[0].plausibility;
+  out.links = LinkBodies(base);
+  for (const EstimatedBody& b : base.bodies()) out.body_names.push_back(b.name);
+  out.implausibility = LinksImplausibility(out.plausibility, out.links, options.prior_tolerance);
+  {
+    // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on
+    // what the most complete model leaves (every candidate, links free, linear least squares on the
+    // training data), since the model's own residual is coloured by the very effects it lacks.
+    Eigen::MatrixXd H = train_eq.AtA;
+    H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
+    const Eigen::VectorXd w_catalog = H.ldlt().solve(train_eq.Atb);
+    const int n = catalog.num_dofs();
+    Eigen::MatrixXd residual(validation.size(), n);
+    Eigen::MatrixXd A(n, catalog.num_features());
+    TreeWorkspace workspace = catalog.MakeWorkspace();
+    for (int i = 0; i < validation.size(); ++i) {
+      catalog.Features(validation.q.row(i).transpose(), validation.qd.row(i).transpose(),
+                       validation.qdd.row(i).transpose(), &workspace, A);
+      residual.row(i) = (A * w_catalog - validation.tau.row(i).transpose()).transpose();
+    }
+    out.residual_tau.resize(n);
+    for (int j = 0; j < n; ++j) out.residual_tau[j] = IntegratedAutocorrelationTime(residual.col(j));
+    out.retraced = RetracedShare(train, validation);
+    if (out.retraced >= kRetracedShare) {
+      out.notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out.retraced))) +
+                          " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
+                          "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
+                          "validate on a different trajectory");
+    }
+  }
+  // Free links: a link the fit bends beyond the tolerance may carry a payload.
+  std::set<std::string> payload_tests;
+  if (!options.hold_links && options.payloads) {
+    const std::set<std::string> allowed(payload_links.begin(), payload_links.end());
+    for (size_t e = 0; e < base.bodies().size(); ++e) {
+      const std::string& name = base.bodies()[e].name;
+      if (out.links[e] && !out.plausibility[e].Within(options.prior_tolerance) && allowed.count(name) > 0 &&
+          payloads_present.count(name) == 0) {
+        candidates.push_back(payload_candidate(name));
+        payload_tests.insert(name);
+      }
+    }
+  }
   {
     // The URDF's own prediction: its links alone (no payload or rotor priors, no effects).
     const RobotDynamics links = make({});
@@ -211,59 +329,117 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   }
 
   // Each candidate on its own, warm-started from the model's fit.
-  const std::vector<std::string> base_names = base.ParameterNames();
-  std::unordered_map<std::string, double> base_x;
-  for (int i = 0; i < static_cast<int>(base_names.size()); ++i) base_x[base_names[i]] = out.fit.x[i];
-  std::vector<Job> jobs(candidates.size());
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    std::vector<EffectSpec> with = effects;
-    with.push_back(candidates[c]);
-    Job& job = jobs[c];
+  auto named = [](const RobotDynamics& m, const Eigen::VectorXd& x) {
+    std::unordered_map<std::string, double> v;
+    const std::vector<std::string> names = m.ParameterNames();
+    for (int i = 0; i < static_cast<int>(names.size()); ++i) v[names[i]] = x[i];
+    return v;
+  };
+  const std::unordered_map<std::string, double> base_x = named(base, out.fit.x);
+  auto setup = [&](Job& job, const std::vector<EffectSpec>& with, const std::unordered_map<std::string, double>& warm) {
     job.model.emplace(make(with));
     job.features = features_of(*job.model);
     job.options = options.fit;
-    job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links);
+    job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with, payload_tests));
     const JointNormalEquations eq = Restrict(train_eq, job.features);
     job.options.initial = DefaultInitialParameters(*job.model, eq, job.options.frozen_bodies);
     const std::vector<std::string> names = job.model->ParameterNames();
     for (int i = 0; i < static_cast<int>(names.size()); ++i) {
-      const auto it = base_x.find(names[i]);
-      if (it != base_x.end()) job.options.initial[i] = it->second;
+      const auto it = warm.find(names[i]);
+      if (it == warm.end()) continue;
+      // A held link stays at its URDF (theta = 0), whatever the warm start says.
+      const std::vector<bool>& frozen = job.options.frozen_bodies;
+      const bool held = i < 10 * static_cast<int>(frozen.size()) && frozen[i / 10];
+      job.options.initial[i] = held ? 0.0 : it->second;
     }
+  };
+  std::vector<Job> jobs(candidates.size());
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    std::vector<EffectSpec> with = effects;
+    with.push_back(candidates[c]);
+    setup(jobs[c], with, base_x);
   }
   RunJobs(jobs, train_eq, validation_eq, options.threads);
 
+  EvidenceRules rules;
+  rules.min_explained = options.min_explained;
+  rules.min_gain = options.min_gain;
+  rules.prior_tolerance = options.prior_tolerance;
+  auto judge = [&](const Job& job, const EffectSpec& spec, const TorqueErrors& without, double b_without,
+                   CandidateResult* r) {
+    r->validation = job.validation;
+    r->plausibility = job.plausibility;
+    r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
+    r->evidence = JudgeCandidate(without, job.validation, out.residual_tau, validation.size(), b_without,
+                                 r->implausibility, CandidateParameters(spec.kind), spec.kind == EffectKind::kSpring,
+                                 rules);
+    r->explained = r->evidence.explained;
+  };
+  std::vector<int> job_of;
   for (size_t c = 0; c < candidates.size(); ++c) {
     const Job& job = jobs[c];
     CandidateResult r;
     r.spec = candidates[c];
     r.name = candidates[c].text;
     (candidates[c].kind == EffectKind::kPayload ? r.link : r.joint) = candidates[c].target;
-    r.validation = job.validation;
-    r.explained = ExplainedShare(out.fit_validation.rms, job.validation.rms);
+    judge(job, candidates[c], out.fit_validation, out.implausibility, &r);
     r.converged = job.fit.lm.converged();
     r.iterations = job.fit.lm.iterations;
     if (candidates[c].kind == EffectKind::kPayload) {
       const int e = static_cast<int>(job.model->bodies().size()) - 1;  // the payload: the last body
       const Vector10 pi = job.model->BodyInertia(e, job.fit.x).vector();
       r.values.assign(pi.data(), pi.data() + 10);
+      if (e < static_cast<int>(job.stds.size())) r.payload_std = job.stds[e];
     } else {
       r.values = job.model->EffectValues(static_cast<int>(job.model->effects().size()) - 1, job.fit.x);
     }
     out.candidates.push_back(std::move(r));
+    job_of.push_back(static_cast<int>(c));
   }
-  auto key = [](const CandidateResult& c) {
-    const int p = c.spec.kind == EffectKind::kPayload ? 10 : (c.spec.kind == EffectKind::kSpring ? 2 : 1);
-    return RankingKey(c.explained, p);
+  // Ranked as candidate_evidence.hpp says: by group, then score.
+  std::vector<int> order(out.candidates.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  auto ranked = [&](int a, int b) {
+    const CandidateEvidence& x = out.candidates[a].evidence;
+    const CandidateEvidence& y = out.candidates[b].evidence;
+    return x.group() != y.group() ? x.group() < y.group() : x.score > y.score;
   };
-  std::stable_sort(out.candidates.begin(), out.candidates.end(),
-                   [&](const CandidateResult& a, const CandidateResult& b) { return key(a) > key(b); });
-  // Suggestions first: every candidate at or above the threshold, in ranking order.
-  const auto end = std::stable_partition(out.candidates.begin(), out.candidates.end(), [&](const CandidateResult& c) {
-    return SupportedByHeldOutData(out.fit_validation, c.validation, c.explained, options.min_explained,
-                                  options.min_gain);
-  });
-  out.num_suggestions = static_cast<int>(end - out.candidates.begin());
+  std::stable_sort(order.begin(), order.end(), ranked);
+  // Alternatives: each further suggestion refitted together with the top one must still be supported
+  // against the top one alone.
+  if (!order.empty() && out.candidates[order[0]].evidence.suggested()) {
+    const int top = order[0];
+    const Job& top_job = jobs[job_of[top]];
+    const std::unordered_map<std::string, double> top_x = named(*top_job.model, top_job.fit.x);
+    std::vector<int> others;
+    for (size_t k = 1; k < order.size() && out.candidates[order[k]].evidence.suggested(); ++k) others.push_back(order[k]);
+    std::vector<Job> pairs(others.size());
+    for (size_t k = 0; k < others.size(); ++k) {
+      std::vector<EffectSpec> with = effects;
+      with.push_back(out.candidates[top].spec);
+      with.push_back(out.candidates[others[k]].spec);
+      setup(pairs[k], with, top_x);
+    }
+    RunJobs(pairs, train_eq, validation_eq, options.threads);
+    for (size_t k = 0; k < others.size(); ++k) {
+      CandidateResult together;
+      judge(pairs[k], out.candidates[others[k]].spec, out.candidates[top].validation, out.candidates[top].implausibility,
+            &together);
+      if (!together.evidence.suggested()) out.candidates[others[k]].alternative_to = out.candidates[top].name;
+    }
+    std::stable_partition(order.begin(), order.end(), [&](int i) {
+      return out.candidates[i].evidence.suggested() && out.candidates[i].alternative_to.empty();
+    });
+  }
+  std::vector<CandidateResult> sorted;
+  for (int i : order) sorted.push_back(std::move(out.candidates[i]));
+  out.candidates = std::move(sorted);
+  out.num_suggestions = 0;
+  while (out.num_suggestions < static_cast<int>(out.candidates.size()) &&
+         out.candidates[out.num_suggestions].evidence.suggested() &&
+         out.candidates[out.num_suggestions].alternative_to.empty()) {
+    ++out.num_suggestions;
+  }
   if (!out.fit.lm.converged()) {
     out.num_suggestions = 0;
     out.notes.push_back("the model's own fit did not converge (" + std::string(ToString(out.fit.lm.reason)) + " after " +
@@ -287,15 +463,36 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
     DiagnosisStep s;
     s.added = top.name;
     s.explained = top.explained;
+    s.evidence = top.evidence;
     s.before = d.fit_validation;
+    s.implausibility_before = d.implausibility;
+    s.bent_before = BentLinks(d);
     current.push_back(top.spec);
     d = DiagnoseJointModel(make, current, payload_links, train, validation, options);
     s.after = d.fit_validation;
+    s.implausibility_after = d.implausibility;
+    s.bent_after = BentLinks(d);
     steps->push_back(s);
+  }
+  if (!d.fit.lm.converged()) {
+    d.stop_reason = "the model's own fit did not converge";
+  } else if (d.num_suggestions == 0) {
+    d.stop_reason = "nothing more is suggested: no candidate is supported by the held-out data or by the links' plausibility";
+  } else {
+    d.stop_reason = "the step cap (" + std::to_string(max_steps) + ") was reached with " + d.candidates[0].name +
+                    " still suggested";
   }
   // links_only_validation is relative to the links, whatever was added.
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return d;
+}
+
+std::vector<std::string> BentLinks(const JointDiagnosis& d) {
+  std::vector<std::string> bent;
+  for (size_t e = 0; e < d.plausibility.size() && e < d.links.size() && e < d.body_names.size(); ++e) {
+    if (d.links[e] && !d.plausibility[e].Within(d.prior_tolerance)) bent.push_back(d.body_names[e]);
+  }
+  return bent;
 }
 
 void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation) {

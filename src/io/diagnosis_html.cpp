@@ -1,6 +1,7 @@
 #include "inertial/io/diagnosis_html.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -32,7 +33,8 @@ std::string ReadBinary(const fs::path& path) {
 std::string Number(double x, const char* format = "%.4g") {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, x);
-  return buf;
+  const std::string s = buf;
+  return s == "-0.0" || s == "-0" ? s.substr(1) : s;
 }
 
 }  // namespace
@@ -115,6 +117,28 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
       errors << "\n";
     }
     WriteFile(dir / "errors.dat", errors.str());
+    if (d.effect_velocity.rows() > 0) {
+      if (d.effect_velocity.cols() != n || d.effect_residual.rows() != d.effect_velocity.rows() ||
+          d.effect_residual.cols() != n) {
+        throw std::invalid_argument("diagnosis report: the effect curve has the wrong size");
+      }
+      std::ostringstream curve;
+      curve << "# per channel: velocity, residual the fitted effect explains\n";
+      for (Eigen::Index i = 0; i < d.effect_velocity.rows(); ++i) {
+        for (int k = 0; k < n; ++k) {
+          curve << (k ? " " : "") << Number(d.effect_velocity(i, k), "%.7g") << " "
+                << (std::isfinite(d.effect_residual(i, k)) ? Number(d.effect_residual(i, k), "%.7g") : "NaN");
+        }
+        curve << "\n";
+      }
+      WriteFile(dir / "effect.dat", curve.str());
+    }
+  }
+  const bool curve = d.effect_velocity.rows() > 0;
+  std::string shading;
+  for (const auto& [t0, t1] : d.marked_windows) {
+    shading += "set object rect from " + Number(t0, "%.9g") + ", graph 0 to " + Number(t1, "%.9g") +
+               ", graph 1 behind fc rgb '#ffd8d0' fs solid 0.6 noborder\n";
   }
   const int height = std::max(300, 170 * n);
   auto multiplot = [&](std::ostringstream& gp, const std::string& png, const std::string& title) {
@@ -122,12 +146,15 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
        << "set output '" << png << "'\n"
        << "set multiplot layout " << n << ",1 title " << GnuplotQuoted(title) << "\n"
        << "set termoption noenhanced\n"  // names like lwr_0_joint and coulomb@knee are not markup
-       << "set grid\nset key outside right top\nset lmargin 12\nset rmargin 22\n";
+       << "set grid\nset key outside right top\nset lmargin 12\nset rmargin 22\n"
+       // Axes span the data: x exactly, y with 5 % of room.
+       << "set autoscale xfix\nset offsets 0, 0, graph 0.05, graph 0.05\n";
   };
   std::vector<std::pair<std::string, std::string>> figures;  // file, caption
   {
     std::ostringstream gp;
-    multiplot(gp, "torques.png", d.title + ": measured and model (held-out data)");
+    multiplot(gp, "torques.png", d.title + ": measured and model (held-out data; worst windows shaded)");
+    gp << shading;
     for (int k = 0; k < n; ++k) {
       gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
          << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
@@ -140,7 +167,8 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
   }
   {
     std::ostringstream gp;
-    multiplot(gp, "residual_time.png", d.title + ": residual (model - measured) against time");
+    multiplot(gp, "residual_time.png", d.title + ": residual (model - measured) against time (worst windows shaded)");
+    gp << shading;
     for (int k = 0; k < n; ++k) {
       gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
          << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
@@ -157,13 +185,19 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
       gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
          << "set xlabel " << GnuplotQuoted(d.velocity_label) << "\n"
          << "plot 'heldout.dat' using " << 5 + 4 * k << ":" << 4 + 4 * k
-         << " with points pt 7 ps 0.25 lc rgb '#3060a0' title 'residual'\n";
+         << " with points pt 7 ps 0.25 lc rgb '#3060a0' title 'residual'";
+      if (curve && std::isfinite(d.effect_residual.col(k).sum())) {
+        gp << ", 'effect.dat' using " << 1 + 2 * k << ":" << 2 + 2 * k << " with lines lw 2.5 lc rgb '#d07000' title "
+           << GnuplotQuoted(d.effect_label);
+      }
+      gp << "\n";
     }
     gp << "unset multiplot\n";
     WriteFile(dir / "residual_velocity.gp", gp.str());
     figures.push_back({"residual_velocity.png",
                        "Residual against velocity: a step at zero velocity is Coulomb friction, a slope viscous "
-                       "friction."});
+                       "friction." +
+                           std::string(curve ? " The orange curve is the top suggestion's fitted effect." : "")});
   }
   {
     std::ostringstream gp;
@@ -196,17 +230,17 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
        << "tr.suggested{background:#fff3d0}img{max-width:100%;border:1px solid #ddd}pre{background:#f6f6f6;padding:1em;"
        << "overflow-x:auto}\n</style>\n</head>\n<body>\n<h1>" << HtmlEscaped(d.title) << "</h1>\n";
   for (const std::string& line : summary) html << "<p>" << HtmlEscaped(line) << "</p>\n";
-  html << "<h2>Candidate effects, ranked by the held-out error they explain</h2>\n";
+  html << "<h2>Candidate effects, ranked by score (suggestions first)</h2>\n";
   if (rows.empty()) {
     html << "<p>No candidate was tested.</p>\n";
   } else {
-    html << "<table id=\"ranking\">\n<tr><th>rank</th><th>effect</th><th>on</th><th>explained</th><th>held-out RMS with it ["
+    html << "<table id=\"ranking\">\n<tr><th>rank</th><th>effect</th><th>on</th><th>score</th><th>explained</th><th>held-out RMS with it ["
          << HtmlEscaped(d.unit) << "]</th><th>suggested</th><th>explanation</th></tr>\n";
     for (size_t r = 0; r < rows.size(); ++r) {
       const DiagnosisTableRow& row = rows[r];
       html << "<tr" << (row.suggested ? " class=\"suggested\"" : "") << "><td>" << r + 1 << "</td><td>"
            << HtmlEscaped(row.effect) << "</td><td>" << HtmlEscaped(row.target) << "</td><td>"
-           << Number(100.0 * row.explained, "%.1f") << " %</td><td>" << Number(row.rms_after) << "</td><td>"
+           << Number(100.0 * row.score, "%.1f") << "</td><td>" << Number(100.0 * row.explained, "%.1f") << " %</td><td>" << Number(row.rms_after) << "</td><td>"
            << (row.suggested ? "yes" : "no") << "</td><td>" << HtmlEscaped(row.explanation) << "</td></tr>\n";
     }
     html << "</table>\n";
@@ -223,7 +257,7 @@ const std::vector<std::string>& DiagnosisReportFileNames() {
   static const std::vector<std::string> names = {
       "index.html",          "heldout.dat",       "errors.dat",        "torques.gp",   "torques.png",
       "residual_time.gp",    "residual_time.png", "residual_velocity.gp", "residual_velocity.png",
-      "errors.gp",           "errors.png"};
+      "errors.gp",           "errors.png",        "effect.dat"};
   return names;
 }
 

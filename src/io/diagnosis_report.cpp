@@ -1,5 +1,6 @@
 #include "inertial/io/diagnosis_report.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,7 +21,11 @@ std::string F(double x, const char* format = "%.3g") {
   return s;
 }
 
-std::string Percent(double share) { return std::isfinite(share) ? F(100.0 * share, "%.1f") + " %" : "n/a"; }
+// One decimal; a share that rounds to zero prints "0.0 %", never "-0.0 %".
+std::string Percent(double share) {
+  if (!std::isfinite(share)) return "n/a";
+  return (std::abs(100.0 * share) < 0.05 ? std::string("0.0") : F(100.0 * share, "%.1f")) + " %";
+}
 
 int DofIndex(const RobotDynamics& model, const std::string& joint) {
   for (int k = 0; k < model.num_dofs(); ++k) {
@@ -56,7 +61,7 @@ void ErrorTable(std::ostringstream& out, const std::vector<std::string>& names, 
 // Why the held-out data do not support a candidate (explained_error.hpp's three conditions).
 std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, double explained, double min_explained,
                          double min_gain) {
-  const std::string prefix = "not supported by the held-out data: ";
+  const std::string prefix = "not supported: ";
   if (explained < 0.0) {
     return prefix + "it makes the held-out error worse by " + Percent(-explained) +
            " (it fits noise or another effect on the training data)";
@@ -70,7 +75,105 @@ std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, 
          " of a residual that small is not a missing effect)";
 }
 
+// Why a robot candidate is not suggested, all evidence considered (candidate_evidence.hpp).
+std::string CandidateNotSuggested(const JointDiagnosis& d, const CandidateResult& r, double min_explained,
+                                  double min_gain) {
+  if (!r.alternative_to.empty()) {
+    return "an alternative to " + r.alternative_to + ": refitted together with it, it adds nothing (both explain the "
+           "same residual or straighten the same link)";
+  }
+  std::string why = NotSuggested(d.fit_validation, r.validation, r.explained, min_explained, min_gain);
+  if (r.evidence.by_size || r.evidence.by_significance || r.evidence.by_plausibility) return why;
+  why += "; significance " + F(r.evidence.significance, "%.3g") + " < " + F(r.evidence.threshold, "%.3g");
+  if (d.implausibility > 0.0) why += "; restores " + Percent(r.evidence.restored) + " of the links' plausibility (50 % needed)";
+  if (r.implausibility > d.implausibility) why += "; it bends the links further";
+  if (r.spec.kind == EffectKind::kSpring) why += " (a spring needs both the held-out size and the significance)";
+  return why;
+}
+
+// What a suggestion is supported by, in words.
+std::string Evidence(const CandidateEvidence& e) {
+  std::vector<std::string> parts;
+  if (e.by_size) parts.push_back("explains " + Percent(e.explained) + " of the held-out error");
+  if (e.by_significance) {
+    parts.push_back("significance " + F(e.significance, "%.3g") + " >= " + F(e.threshold, "%.3g") +
+                    " (held-out gain in independent samples)");
+  }
+  if (e.by_plausibility) parts.push_back("restores " + Percent(e.restored) + " of the links' plausibility");
+  std::string s;
+  for (size_t i = 0; i < parts.size(); ++i) s += (i > 0 ? "; " : "") + parts[i];
+  return s;
+}
+
+// The score the ranking used, as shown (candidate_evidence.hpp: by group).
+std::string ScoreText(const CandidateEvidence& e) {
+  return F(100.0 * e.score, "%.1f") == "-0.0" ? "0.0" : F(100.0 * e.score, "%.1f");
+}
+
+// "thigh identified at 8.5 kg, URDF 1.3 kg; COM moved 12 mm; inertia changed by 310 %".
+std::string Departure(const InertialParams& body, const InertialParams& prior, const BodyPlausibility& p) {
+  std::string s = F(body.mass(), "%.3g") + " kg (URDF " + F(prior.mass(), "%.3g") + " kg)";
+  if (p.com_shift > 0.0) s += ", COM moved " + F(1000.0 * p.com_shift, "%.3g") + " mm";
+  s += ", inertia about the COM changed by " + Percent(p.inertia_change);
+  return s;
+}
+
 }  // namespace
+
+std::string PlausibilityText(const RobotDynamics& model, const JointDiagnosis& d) {
+  std::ostringstream out;
+  out << "Identified bodies against their URDF (tolerance: within a factor " << F(1.0 + d.prior_tolerance, "%.3g")
+      << ", departures counted beyond " << F(kDepartureMargin, "%g") << " standard deviations of the estimate)\n";
+  std::vector<std::string> bent;
+  for (size_t e = 0; e < d.plausibility.size() && e < model.bodies().size(); ++e) {
+    const BodyPlausibility& p = d.plausibility[e];
+    const int i = static_cast<int>(e);
+    Eigen::VectorXd x_prior = d.fit.x;
+    x_prior.segment<10>(10 * i).setZero();
+    const InertialParams body = model.BodyInertia(i, d.fit.x), prior = model.BodyInertia(i, x_prior);
+    const bool is_link = e < d.links.size() && d.links[e];
+    const bool held = e < d.frozen_bodies.size() && d.frozen_bodies[e];
+    out << "  " << model.bodies()[e].name << ": mass x" << F(p.mass_ratio, "%.3g") << ", COM "
+        << F(1000.0 * p.com_shift, "%.3g") << " mm, principal moments x" << F(p.moment_ratios[0], "%.2g") << " x"
+        << F(p.moment_ratios[1], "%.2g") << " x" << F(p.moment_ratios[2], "%.2g") << ", divergence "
+        << F(p.divergence, "%.3g") << ", factor " << F(p.factor, "%.3g")
+        << (held ? " (held at the URDF)" : (!is_link ? " (not a link: no URDF to compare)"
+                                                     : (p.Within(d.prior_tolerance) ? "" : "  BENT")))
+        << "\n";
+    if (is_link && !held && !p.Within(d.prior_tolerance)) {
+      bent.push_back(model.bodies()[e].name + " identified at " + Departure(body, prior, p) +
+                     ": something the model lacks is being imitated by this link (or its URDF is wrong)");
+    }
+  }
+  for (const std::string& b : bent) out << "  ! " << b << "\n";
+  return out.str();
+}
+
+nlohmann::json PlausibilityJson(const RobotDynamics& model, const JointDiagnosis& d) {
+  nlohmann::json bodies = nlohmann::json::array();
+  for (size_t e = 0; e < d.plausibility.size() && e < model.bodies().size(); ++e) {
+    const BodyPlausibility& p = d.plausibility[e];
+    const int i = static_cast<int>(e);
+    Eigen::VectorXd x_prior = d.fit.x;
+    x_prior.segment<10>(10 * i).setZero();
+    const bool is_link = e < d.links.size() && d.links[e];
+    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json("inf"); };
+    bodies.push_back({{"name", model.bodies()[e].name},
+                      {"mass", model.BodyInertia(i, d.fit.x).mass()},
+                      {"mass_prior", model.BodyInertia(i, x_prior).mass()},
+                      {"mass_ratio", finite(p.mass_ratio)},
+                      {"com_shift_mm", finite(1000.0 * p.com_shift)},
+                      {"com_shift_relative", finite(p.com_shift_relative)},
+                      {"principal_moment_ratios", {p.moment_ratios[0], p.moment_ratios[1], p.moment_ratios[2]}},
+                      {"inertia_change", finite(p.inertia_change)},
+                      {"divergence", finite(p.divergence)},
+                      {"factor", finite(p.factor)},
+                      {"raw_factor", finite(p.raw_factor)},
+                      {"link", is_link},
+                      {"within_tolerance", !is_link || p.Within(d.prior_tolerance)}});
+  }
+  return bodies;
+}
 
 std::string WhereItFailsText(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals,
                              const std::string& what) {
@@ -133,7 +236,10 @@ JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, cons
 std::string CandidateExplanation(const JointDiagnosisContext& c, const CandidateResult& r) {
   if (r.spec.kind == EffectKind::kPayload) {
     const InertialParams p = InertialParams::FromVector(Eigen::Map<const Vector10>(r.values.data()));
-    return r.link + " carries more than its URDF says: a payload of " + F(p.mass()) + " kg with its centre of mass at " +
+    const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Matrix3>(p.rotational_inertia_about_com()).eigenvalues();
+    const std::string pm = r.payload_std && std::isfinite(r.payload_std->mass) ? " +- " + F(r.payload_std->mass) : "";
+    return r.link + " carries more than its URDF says: a payload of " + F(p.mass()) + pm + " kg, principal moments " +
+           Vec3(moments) + " kg m^2 about its centre of mass at " +
            Vec3(p.com()) + " m (in the frame of " + r.link +
            "'s rigid body) explains the error (or the URDF inertia of that body is wrong)";
   }
@@ -182,32 +288,41 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
     out << "\n";
     ErrorTable(out, model.dof_names(), *d.links_only_validation, d.fit_validation, "N m");
   }
+  out << "\n" << PlausibilityText(model, d);
   out << "\n" << WhereItFailsText(model.dof_names(), c.residuals, "held-out residual of the fitted model");
-  out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (averaged over "
-         "joints; suggested from "
-      << Percent(c.min_explained) << ")\n";
+  out << "\nMissing effects. Suggested when the held-out data support them (removing " << Percent(c.min_explained)
+      << " of the held-out mean-square error, or a significant fall of it counted in independent samples) or when they "
+         "restore the plausibility of links the model bends; ranked by the held-out share they remove (score, %), "
+         "then by the share of plausibility they restore, near-ties to the simpler effect\n";
+  const std::vector<std::string> bent = BentLinks(d);
   if (d.num_suggestions == 0 && !d.fit.lm.converged()) {
     out << "  No suggestion: the model's own fit did not converge (see the note below).\n";
   } else if (d.num_suggestions == 0) {
-    out << "  No missing effect found: no candidate is supported by the held-out data (removing "
-        << Percent(c.min_explained) << " of its mean-square error, lowering the pooled error, and lowering some "
-        << "joint's error by " << Percent(c.min_gain) << " of its torque)";
+    out << "  No missing effect found: no candidate is supported by the held-out data or restores the links' "
+           "plausibility";
     if (!d.candidates.empty()) {
-      out << "; best: " << d.candidates[0].name << ", "
-          << NotSuggested(d.fit_validation, d.candidates[0].validation, d.candidates[0].explained, c.min_explained,
-                          c.min_gain);
+      out << "; best: " << d.candidates[0].name << ", " << CandidateNotSuggested(d, d.candidates[0], c.min_explained, c.min_gain);
     }
-    out << ". The model explains these data as well as any effect of the catalog would.\n";
+    if (bent.empty()) {
+      out << ". The model explains these data as well as any effect of the catalog would, with believable links.\n";
+    } else {
+      out << ". But links bend beyond the tolerance (see above): the model lacks something the catalog does not "
+             "hold, or the URDF of those links is wrong.\n";
+    }
   }
   constexpr int kShownSuggestions = 8;
   for (int i = 0; i < std::min(d.num_suggestions, kShownSuggestions); ++i) {
     const CandidateResult& r = d.candidates[i];
-    out << "  " << i + 1 << ". " << r.name << ": explains " << Percent(r.explained) << "; held-out RMS "
-        << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g") << " N m";
+    out << "  " << i + 1 << ". " << r.name << " (score " << ScoreText(r.evidence) << "): " << Evidence(r.evidence)
+        << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g")
+        << " N m";
     const int k = DofIndex(model, r.joint);
     if (k >= 0) {
       out << " (" << r.joint << " " << F(d.fit_validation.rms[k], "%.4g") << " -> " << F(r.validation.rms[k], "%.4g")
           << ")";
+    }
+    if (r.implausibility != d.implausibility) {
+      out << "; links' implausibility " << F(d.implausibility, "%.3g") << " -> " << F(r.implausibility, "%.3g");
     }
     out << "\n     " << CandidateExplanation(c, r) << "\n";
   }
@@ -216,11 +331,11 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   }
   const int shown = std::min<int>(static_cast<int>(d.candidates.size()), d.num_suggestions + 3);
   if (shown > d.num_suggestions) {
-    out << "  not suggested (next best):";
+    out << "  not suggested (next best):\n";
     for (int i = d.num_suggestions; i < shown; ++i) {
-      out << " " << d.candidates[i].name << " " << Percent(d.candidates[i].explained) << ";";
+      out << "    " << d.candidates[i].name << " (score " << ScoreText(d.candidates[i].evidence) << "): "
+          << CandidateNotSuggested(d, d.candidates[i], c.min_explained, c.min_gain) << "\n";
     }
-    out << "\n";
   }
   for (const std::string& note : d.notes) out << "  note: " << note << "\n";
   if (d.num_suggestions > 0) {
@@ -273,8 +388,14 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
     s["rms_validation_after"] = PerJointJson(model, r.validation.rms, r.validation.total_rms);
     s["explained"] = r.explained;
     s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r)
-                                             : NotSuggested(d.fit_validation, r.validation, r.explained,
-                                                            c.min_explained, c.min_gain);
+                                             : CandidateNotSuggested(d, r, c.min_explained, c.min_gain);
+    s["score"] = r.evidence.score;
+    s["evidence"] = {{"explained", r.evidence.explained},         {"significance", r.evidence.significance},
+                     {"threshold", r.evidence.threshold},         {"restored", r.evidence.restored},
+                     {"by_size", r.evidence.by_size},             {"by_significance", r.evidence.by_significance},
+                     {"by_plausibility", r.evidence.by_plausibility}};
+    s["implausibility_after"] = r.implausibility;
+    if (!r.alternative_to.empty()) s["alternative_to"] = r.alternative_to;
     s["values"] = r.values;
     s["converged"] = r.converged;
     s["suggested"] = i < d.num_suggestions;
@@ -284,6 +405,12 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
   j["suggestions"] = suggestions;
   j["candidates"] = candidates;
   j["min_explained"] = c.min_explained;
+  j["plausibility"] = PlausibilityJson(model, d);
+  j["prior_tolerance"] = d.prior_tolerance;
+  j["implausibility"] = d.implausibility;
+  j["bent_links"] = BentLinks(d);
+  j["validation_retraces_training"] = d.retraced;
+  if (!d.stop_reason.empty()) j["stop_reason"] = d.stop_reason;
   j["notes"] = d.notes;
   j["seconds"] = d.seconds;
   j["where_it_fails"] = WhereItFailsJson(model.dof_names(), c.residuals);
@@ -291,17 +418,25 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
 }
 
 std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const JointDiagnosis& final_diagnosis) {
+  auto names = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += (i > 0 ? ", " : "") + v[i];
+    return v.empty() ? std::string("none") : s;
+  };
   std::ostringstream out;
-  out << "Effects added in turn (the top suggestion each time), held-out RMS before -> after:\n";
+  out << "Effects added in turn (the top suggestion each time):\n";
   if (path.empty()) out << "  none: nothing was suggested\n";
   for (size_t i = 0; i < path.size(); ++i) {
     const DiagnosisStep& s = path[i];
-    out << "  " << i + 1 << ". " << s.added << " (explained " << Percent(s.explained) << "): "
-        << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms) << ") -> "
-        << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n";
+    out << "  " << i + 1 << ". added " << s.added << " (" << Evidence(s.evidence) << ")\n"
+        << "     held-out RMS " << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms)
+        << ") -> " << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n"
+        << "     links' implausibility " << F(s.implausibility_before, "%.3g") << " -> "
+        << F(s.implausibility_after, "%.3g") << "; bent links: " << names(s.bent_before) << " -> "
+        << names(s.bent_after) << "\n";
   }
-  out << "  " << (final_diagnosis.num_suggestions == 0 ? "stopped: nothing more is suggested"
-                                                       : "stopped at the --iterate limit; suggestions remain")
+  out << "  stopped: "
+      << (final_diagnosis.stop_reason.empty() ? std::string("nothing more is suggested") : final_diagnosis.stop_reason)
       << "\n";
   return out.str();
 }
@@ -311,8 +446,14 @@ nlohmann::json DiagnosisPathJson(const RobotDynamics& model, const std::vector<D
   for (const DiagnosisStep& s : path) {
     j.push_back({{"added", s.added},
                  {"explained", s.explained},
+                 {"significance", s.evidence.significance},
+                 {"restored", s.evidence.restored},
                  {"rms_validation_before", PerJointJson(model, s.before.rms, s.before.total_rms)},
-                 {"rms_validation_after", PerJointJson(model, s.after.rms, s.after.total_rms)}});
+                 {"rms_validation_after", PerJointJson(model, s.after.rms, s.after.total_rms)},
+                 {"implausibility_before", s.implausibility_before},
+                 {"implausibility_after", s.implausibility_after},
+                 {"bent_links_before", s.bent_before},
+                 {"bent_links_after", s.bent_after}});
   }
   return j;
 }
@@ -343,14 +484,38 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
     p.error_labels.push_back("+ " + d.candidates[i].name);
     p.error_rms.push_back(d.candidates[i].validation.rms);
   }
+  for (const ResidualWindow& w : c.residuals.worst_windows) p.marked_windows.push_back({w.t_start, w.t_end});
+  // The top suggestion's effect over the residual it explains (residual = model - measured, and the
+  // measurement holds the effect: the residual follows minus the effect).
+  if (d.num_suggestions > 0) {
+    const CandidateResult& top = d.candidates[0];
+    const int k = DofIndex(model, top.joint);
+    const EffectKind kind = top.spec.kind;
+    if (k >= 0 && !top.values.empty() &&
+        (kind == EffectKind::kCoulomb || kind == EffectKind::kViscous || kind == EffectKind::kOffset)) {
+      constexpr int kPoints = 201;
+      const int n = model.num_dofs();
+      p.effect_velocity = Eigen::MatrixXd::Zero(kPoints, n);
+      p.effect_residual = Eigen::MatrixXd::Constant(kPoints, n, std::nan(""));
+      const double lo = c.validation->qd.col(k).minCoeff(), hi = c.validation->qd.col(k).maxCoeff();
+      for (int i = 0; i < kPoints; ++i) {
+        const double v = lo + (hi - lo) * i / (kPoints - 1);
+        const double effect = kind == EffectKind::kCoulomb  ? top.values[0] * std::tanh(v / top.spec.velocity_scale)
+                              : kind == EffectKind::kViscous ? top.values[0] * v
+                                                             : top.values[0];
+        p.effect_velocity(i, k) = v;
+        p.effect_residual(i, k) = -effect;
+      }
+      p.effect_label = "- " + top.name + " (fitted)";
+    }
+  }
   std::vector<DiagnosisTableRow> rows;
   for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
     const CandidateResult& r = d.candidates[i];
-    rows.push_back({std::string(ToString(r.spec.kind)), r.joint.empty() ? r.link : r.joint, r.explained,
+    rows.push_back({std::string(ToString(r.spec.kind)), r.joint.empty() ? r.link : r.joint, r.evidence.score, r.explained,
                     r.validation.total_rms, i < d.num_suggestions,
-                    i < d.num_suggestions ? CandidateExplanation(c, r)
-                                          : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
-                                                         c.min_gain)});
+                    i < d.num_suggestions ? CandidateExplanation(c, r) + " [" + Evidence(r.evidence) + "]"
+                                          : CandidateNotSuggested(d, r, c.min_explained, c.min_gain)});
   }
   std::vector<std::string> summary{
       "Held-out RMS torque error: URDF prior " + F(d.prior_validation.total_rms, "%.4g") + " N m, fitted model " +
@@ -498,7 +663,7 @@ void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisC
   std::vector<DiagnosisTableRow> rows;
   for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
     const BodyCandidateResult& r = d.candidates[i];
-    rows.push_back({std::string(ToString(r.kind)), "body", r.explained, r.validation.total_rms, i < d.num_suggestions,
+    rows.push_back({std::string(ToString(r.kind)), "body", r.evidence.score, r.explained, r.validation.total_rms, i < d.num_suggestions,
                     i < d.num_suggestions ? BodyCandidateExplanation(r)
                                           : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
                                                          c.min_gain)});

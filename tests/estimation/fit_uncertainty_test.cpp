@@ -179,6 +179,20 @@ TEST(FitUncertainty, EffectsOnlyMatchLinearLeastSquares) {
   }
 }
 
+// Nothing estimated (every body frozen, no effect): no crash, zero effective parameters, every std 0.
+TEST(FitUncertainty, NothingEstimatedGivesZeroStandardDeviations) {
+  Rng rng(54);
+  const RobotDynamics model = LegModel("");
+  const JointSamples samples = Excite(model, Eigen::VectorXd::Zero(model.num_parameters()), 100, 0.1, rng);
+  const JointNormalEquations eq = AccumulateNormalEquations(model, samples);
+  const FitUncertainty u =
+      EstimateFitUncertainty(model, eq, Eigen::VectorXd::Zero(model.num_parameters()), 1e-2, {true, true, true});
+  EXPECT_EQ(u.effective_parameters, 0.0);
+  EXPECT_EQ(u.undetermined_directions, 0);
+  ASSERT_EQ(u.bodies.size(), 3u);
+  for (const BodyUncertainty& b : u.bodies) EXPECT_EQ(b.mass, 0.0);
+}
+
 // The first link turns about a fixed axis: its mass never enters the torques (only its first
 // moment and its inertia about the axis do). Without a prior that mass is undetermined (std
 // infinite, not "held": nothing holds it); with the paper's prior it is finite and held by the

@@ -7,6 +7,8 @@
 // Savitzky-Golay at 200 Hz and 1 kHz.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "inertial/estimation/joint_diagnosis.hpp"
 #include "inertial/estimation/savitzky_golay.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -41,6 +43,9 @@ struct Outcome {
   TorqueErrors truth;           // the true model on the held-out data: the floor
   Eigen::VectorXd effect_share;  // RMS of the hidden effects' torque / RMS torque, per joint
   RobotModel robot;
+  // Every body of the truth and its prior, by name, in its tree body's frame (a payload in the frame
+  // of the link it adds to).
+  std::map<std::string, InertialParams> true_bodies, prior_bodies;
 };
 
 void Differentiate(JointSamples* s, std::uint64_t seed) {
@@ -54,7 +59,9 @@ Outcome RunCase(const Case& c) {
   Outcome out;
   out.robot = LoadUrdf(testing::Example(c.robot));
   const RobotDynamics truth = MakeRobotDynamics(out.robot, ParseEffectList(c.hidden));
-  Eigen::VectorXd x = testing::TrueParameters(truth, c.values.empty() ? std::vector<double>{0.0} : c.values, 7);
+  // The URDF is the prior; the true links differ from it as a CAD model's ordinarily do (masses
+  // within 20-25 %, COMs by centimetres), inside the diagnosis's prior tolerance.
+  Eigen::VectorXd x = testing::CadErrorParameters(truth, c.values.empty() ? std::vector<double>{0.0} : c.values, 7);
   if (c.hold_links) x.head(10 * out.robot.tree.num_bodies()).setZero();
   testing::SimulatedLogs logs = testing::SimulateLogs(truth, x, c.sigma, c.seconds, 21, c.rate);
   if (c.savitzky_golay) {
@@ -67,6 +74,11 @@ Outcome RunCase(const Case& c) {
   const Eigen::MatrixXd alone = PredictJointTorques(links, x.head(links.num_parameters()), logs.test_clean);
   out.effect_share = ((full - alone).colwise().norm().array() / full.colwise().norm().array()).transpose();
   out.truth = CompareTorques(PredictJointTorques(truth, x, logs.test), logs.test.tau);
+  for (int e = 0; e < static_cast<int>(truth.bodies().size()); ++e) {
+    const EstimatedBody& b = truth.bodies()[e];
+    out.true_bodies.emplace(b.name, InertialParams::FromVector(b.map.ToPi(x.segment<10>(10 * e))));
+    out.prior_bodies.emplace(b.name, b.prior);
+  }
   const RobotModel& robot = out.robot;
   const RobotModelFactory make = [&robot](const std::vector<EffectSpec>& e) { return MakeRobotDynamics(robot, e); };
   JointDiagnosisOptions options;
@@ -82,20 +94,29 @@ Outcome RunCase(const Case& c) {
 }
 
 std::string Ranking(const JointDiagnosis& d) {
-  std::string s;
+  std::string s = "B " + std::to_string(d.implausibility) + ": ";
   for (size_t i = 0; i < d.candidates.size() && i < 4; ++i) {
-    s += d.candidates[i].name + " " + std::to_string(d.candidates[i].explained) + "; ";
+    const CandidateEvidence& e = d.candidates[i].evidence;
+    s += d.candidates[i].name + " e " + std::to_string(e.explained) + " z " + std::to_string(e.significance) + "/" +
+         std::to_string(e.threshold) + " r " + std::to_string(e.restored) + " " + d.candidates[i].alternative_to + "; ";
   }
   return s + "(" + std::to_string(d.num_suggestions) + " suggested)";
 }
 
 // The top suggestion is `expected`, and with it the held-out error is within 5 % of the truth's.
-void ExpectFound(const Outcome& o, const std::string& expected, int joint_of_effect) {
+// must_show: the model without it is at least 3 % worse on held-out data, on the effect's joint if
+// given (false where the links
+// absorb the effect and only significance or plausibility can reveal it).
+void ExpectFound(const Outcome& o, const std::string& expected, int joint_of_effect, bool must_show = true) {
   const JointDiagnosis& d = o.diagnosis;
   ASSERT_GE(d.num_suggestions, 1) << Ranking(d);
   EXPECT_EQ(d.candidates[0].name, expected) << Ranking(d);
   EXPECT_LT(d.candidates[0].validation.total_rms, 1.05 * o.truth.total_rms) << Ranking(d);
-  EXPECT_GT(d.fit_validation.total_rms, 1.03 * o.truth.total_rms) << "the hidden effect does not show";
+  if (must_show && joint_of_effect >= 0) {
+    EXPECT_GT(d.fit_validation.rms[joint_of_effect], 1.03 * o.truth.rms[joint_of_effect]) << "the effect does not show";
+  } else if (must_show) {
+    EXPECT_GT(d.fit_validation.total_rms, 1.03 * o.truth.total_rms) << "the hidden effect does not show";
+  }
   if (joint_of_effect >= 0) {
     EXPECT_GE(o.effect_share[joint_of_effect], 0.05) << "effect too small to be realistic";
     EXPECT_LE(o.effect_share[joint_of_effect], 0.20) << "effect too large to be realistic";
@@ -103,12 +124,12 @@ void ExpectFound(const Outcome& o, const std::string& expected, int joint_of_eff
 }
 
 TEST(EffectDiagnosis, CoulombFrictionOnTheKnee) {
-  const Outcome o = RunCase(Case{"leg3.urdf", "coulomb@knee", {0.1}});
+  const Outcome o = RunCase(Case{"leg3.urdf", "coulomb@knee", {0.055}});
   ExpectFound(o, "coulomb@knee", 2);
 }
 
 TEST(EffectDiagnosis, ViscousDampingOnTheHip) {
-  const Outcome o = RunCase(Case{"leg3.urdf", "viscous@hip", {1.0}});
+  const Outcome o = RunCase(Case{"leg3.urdf", "viscous@hip", {0.6}});
   ExpectFound(o, "viscous@hip", 1);
 }
 
@@ -118,16 +139,19 @@ TEST(EffectDiagnosis, ArmatureOnTheKnee) {
 }
 
 TEST(EffectDiagnosis, SpringOnTheHip) {
-  const Outcome o = RunCase(Case{"leg3.urdf", "spring@hip", {1.0, 0.2}});
+  const Outcome o = RunCase(Case{"leg3.urdf", "spring@hip", {0.65, 0.13}});
   ExpectFound(o, "spring@hip", 1);
 }
 
 // An offset ties with a spring of vanishing stiffness (which contains it): the simpler one ranks
-// first, and once it is in the model the spring explains nothing more.
+// first, and once it is in the model the spring explains nothing more. The links absorb most of
+// it (their COMs imitate a constant torque): the held-out error hardly shows it, its significance
+// does.
 TEST(EffectDiagnosis, TorqueSensorOffsetOnTheKnee) {
-  const Outcome o = RunCase(Case{"leg3.urdf", "offset@knee", {0.12}});
-  ExpectFound(o, "offset@knee", 2);
-  Case again{"leg3.urdf", "offset@knee", {0.12}};
+  const Outcome o = RunCase(Case{"leg3.urdf", "offset@knee", {0.055}});
+  ExpectFound(o, "offset@knee", 2, /*must_show=*/false);
+  EXPECT_TRUE(o.diagnosis.candidates[0].evidence.by_significance) << Ranking(o.diagnosis);
+  Case again{"leg3.urdf", "offset@knee", {0.055}};
   again.model_effects = "offset@knee";
   const Outcome after = RunCase(again);
   EXPECT_EQ(after.diagnosis.num_suggestions, 0) << Ranking(after.diagnosis);
@@ -182,10 +206,10 @@ TEST(EffectDiagnosis, CleanDataGetsNoSuggestion) {
 
 // Messy data: accelerations from Savitzky-Golay-differentiated encoder positions, at 200 Hz and 1 kHz.
 TEST(EffectDiagnosis, RankingHoldsWithSavitzkyGolayAt200HzAnd1kHz) {
-  Case coulomb{"leg3.urdf", "coulomb@knee", {0.1}, 200};
+  Case coulomb{"leg3.urdf", "coulomb@knee", {0.055}, 200};
   coulomb.savitzky_golay = true;
   ExpectFound(RunCase(coulomb), "coulomb@knee", 2);
-  Case viscous{"leg3.urdf", "viscous@hip", {1.0}, 1000, 20};
+  Case viscous{"leg3.urdf", "viscous@hip", {0.6}, 1000, 20};
   viscous.savitzky_golay = true;
   ExpectFound(RunCase(viscous), "viscous@hip", 1);
   Case clean{"leg3.urdf", "", {}, 200};
@@ -197,7 +221,7 @@ TEST(EffectDiagnosis, RankingHoldsWithSavitzkyGolayAt200HzAnd1kHz) {
 // The data's friction is not the candidate's shape: tanh(qd / 0.05) in the data, tanh(qd / 0.01)
 // in the candidate. Still found, and the error falls to within 5 % of the truth's.
 TEST(EffectDiagnosis, CoulombOfAnotherShapeIsStillFound) {
-  const Outcome o = RunCase(Case{"leg3.urdf", "coulomb@knee:scale=0.05", {0.1}});
+  const Outcome o = RunCase(Case{"leg3.urdf", "coulomb@knee:scale=0.05", {0.055}});
   ExpectFound(o, "coulomb@knee", 2);
 }
 
@@ -225,10 +249,98 @@ TEST(EffectDiagnosis, NothingIsSuggestedWhenTheModelsFitDidNotConverge) {
 
 // The 7-DOF arm (35 candidates): Coulomb friction on the wrist.
 TEST(EffectDiagnosis, CoulombFrictionOnTheArmsWrist) {
-  Case c{"arm7.urdf", "coulomb@joint6", {0.2}, 250, 20};
+  Case c{"arm7.urdf", "coulomb@joint6", {0.028}, 250, 20};
   const Outcome o = RunCase(c);
   ExpectFound(o, "coulomb@joint6", 5);
   EXPECT_EQ(o.diagnosis.candidates.size(), 35u);
+}
+
+// Effects the free links imitate (issue: a hip with rotor armature made the thigh 6 times heavier;
+// an offset absorbed by the links' COMs). The logs have no qdd: accelerations come from
+// Savitzky-Golay of encoder positions.
+std::string Bent(const JointDiagnosis& d) {
+  std::string s;
+  for (const std::string& l : BentLinks(d)) s += l + " ";
+  return s;
+}
+
+TEST(EffectDiagnosis, ArmatureTheLinksImitateIsFoundByTheirPlausibility) {
+  Case c{"leg3.urdf", "armature@hip", {0.12}};
+  c.savitzky_golay = true;
+  const Outcome o = RunCase(c);
+  ExpectFound(o, "armature@hip", 1, /*must_show=*/false);
+  // With the armature the links are believable again, and nothing more is suggested.
+  c.model_effects = "armature@hip";
+  const Outcome after = RunCase(c);
+  EXPECT_TRUE(BentLinks(after.diagnosis).empty()) << Bent(after.diagnosis);
+  EXPECT_EQ(after.diagnosis.num_suggestions, 0) << Ranking(after.diagnosis);
+  std::cerr << "armature@hip: bent without it: " << Bent(o.diagnosis) << "; evidence: size "
+            << o.diagnosis.candidates[0].evidence.by_size << " significance "
+            << o.diagnosis.candidates[0].evidence.by_significance << " plausibility "
+            << o.diagnosis.candidates[0].evidence.by_plausibility << "\n";
+}
+
+TEST(EffectDiagnosis, OffsetOnTheHipTheLinksAbsorb) {
+  Case c{"leg3.urdf", "offset@hip", {0.2}};
+  c.savitzky_golay = true;
+  const Outcome o = RunCase(c);
+  ExpectFound(o, "offset@hip", 1, /*must_show=*/false);
+}
+
+// A payload heavier than its link (110-120 %) on the last link, with free links (the default): the
+// link bends beyond the prior tolerance and payload@<link> is suggested, with the payload's mass.
+// The candidate holds the link at its URDF, so the fitted payload also carries the link's own CAD
+// error: its mass error, and its first-moment error (the truth's COM is up to 0.3 rho0 off) over
+// the payload's lever arm; plus 3 standard deviations of the fitted mass for the noise (on an arm
+// the data split the wrist's mass among its last links only loosely).
+void ExpectPayload(const Outcome& o, const std::string& link, const std::string& link_truth_name) {
+  const JointDiagnosis& d = o.diagnosis;
+  ASSERT_GE(d.num_suggestions, 1) << Ranking(d);
+  EXPECT_EQ(d.candidates[0].name, "payload@" + link) << Ranking(d);
+  const std::string payload_body = "payload@" + link_truth_name;
+  ASSERT_EQ(o.true_bodies.count(payload_body), 1u);
+  const double m_true = o.true_bodies.at(payload_body).mass();
+  const double link_error = o.true_bodies.at(link).mass() - o.prior_bodies.at(link).mass();
+  const Eigen::Map<const Vector10> pi(d.candidates[0].values.data());
+  const InertialParams& prior = o.prior_bodies.at(link);
+  const Matrix3 I0 = prior.rotational_inertia_about_com();
+  const double rho0 = std::sqrt(0.5 * I0.trace() / prior.mass());
+  const double lever = (o.true_bodies.at(payload_body).com() - prior.com()).norm();
+  ASSERT_TRUE(d.candidates[0].payload_std.has_value());
+  const double std_mass = d.candidates[0].payload_std->mass;
+  EXPECT_LT(std_mass, 0.5 * m_true) << "the payload's mass is not determined";
+  const double bound = std::abs(link_error) + 0.3 * rho0 * prior.mass() / lever + 3 * std_mass;
+  EXPECT_NEAR(pi[0], m_true + link_error, bound) << "payload " << m_true << ", link error " << link_error << ", std "
+                                                 << std_mass;
+  EXPECT_LT(d.candidates[0].validation.total_rms, 1.05 * o.truth.total_rms) << Ranking(d);
+  EXPECT_NE(Bent(d).find(link), std::string::npos) << Bent(d);
+}
+
+TEST(EffectDiagnosis, PayloadOnTheLegsLastLinkWithFreeLinks) {
+  ExpectPayload(RunCase(Case{"leg3.urdf", "payload@foot:mass=0.55", {0.0}}), "shank", "foot");
+}
+
+TEST(EffectDiagnosis, PayloadOnTheArmsLastLinkWithFreeLinks) {
+  ExpectPayload(RunCase(Case{"arm7.urdf", "payload@tool0:mass=0.6", {0.0}, 250, 20}), "link7", "tool0");
+}
+
+// The held-out log retraces the training trajectory (the same excitation run again, new noise):
+// the diagnosis says that this validation cannot reveal overfitting. A different excitation is not
+// called a repeat.
+TEST(EffectDiagnosis, ValidationThatRetracesTheTrainingTrajectoryIsCalledARepeat) {
+  const RobotModel robot = LoadUrdf(testing::Example("leg3.urdf"));
+  const RobotDynamics model = MakeRobotDynamics(robot, {});
+  const Eigen::VectorXd x = testing::CadErrorParameters(model, {0.0}, 7);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x, kSigma, 20, 31);
+  const JointSamples again = AddGaussianNoise(logs.train, SampleNoise{0, 0, 0, kSigma}, 99);
+  const RobotModelFactory make = [&robot](const std::vector<EffectSpec>& e) { return MakeRobotDynamics(robot, e); };
+  const JointDiagnosis repeat = DiagnoseJointModel(make, {}, robot.body_links, logs.train, again);
+  EXPECT_GE(repeat.retraced, 0.95);
+  ASSERT_FALSE(repeat.notes.empty());
+  EXPECT_NE(repeat.notes.back().find("retrace the training trajectory"), std::string::npos) << repeat.notes.back();
+  const JointDiagnosis other = DiagnoseJointModel(make, {}, robot.body_links, logs.train, logs.test);
+  EXPECT_LT(other.retraced, 0.2);
+  for (const std::string& n : other.notes) EXPECT_EQ(n.find("retrace"), std::string::npos) << n;
 }
 
 }  // namespace

@@ -81,6 +81,8 @@ struct DiagnoseCommand {
   std::string max_iterations = "1000";
   // Robot-only options: empty means the default (and lets --body refuse them when given).
   std::string prior_weight, gravity, sg_order, sg_window, threads, iterate;
+  std::string prior_tolerance;  ///< robots: empty for the default (plausibility.hpp)
+  std::string folds;            ///< --body: cross-validation blocks (empty: 5 unless --validate/--holdout)
   bool skip_bad_rows = false;
 };
 CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);

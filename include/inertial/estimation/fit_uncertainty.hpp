@@ -88,6 +88,9 @@ struct FitUncertainty {
   Eigen::MatrixXd covariance;
   /// Per estimated body (model.bodies() order), in its report frame; all 0 for a frozen body.
   std::vector<BodyUncertainty> bodies;
+  /// Per estimated body (model.bodies() order): the covariance of pi in its report frame (first
+  /// order; 0 for a frozen body; the undetermined directions left out, as in `covariance`).
+  std::vector<Matrix10> body_pi_covariance;
   /// Per estimated body: which quantities the prior, not the data, determines.
   std::vector<BodyHeldByPrior> body_held;
   /// Per effect term (model.effects() order): the std of each RobotDynamics::EffectValues entry

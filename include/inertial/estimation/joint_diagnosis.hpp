@@ -1,24 +1,28 @@
 /// @file joint_diagnosis.hpp
-/// Which physical effect a robot model lacks, judged on held-out data.
+/// Which physical effect a robot model lacks, judged on held-out data and on the plausibility of
+/// the bodies each model leaves.
 ///
 /// The model (links plus `effects`) is fitted to the training data as `identify` does (eq. 14,
 /// joint_identification.hpp); then every candidate effect of the catalog that the model does not
-/// have (viscous, coulomb, offset, armature and spring on each joint; with hold_links, a payload
-/// on each link) is added on its own, the model refitted, and its torque error measured on the
-/// validation data, which no fit sees. A candidate's score is the share of the held-out mean-square
-/// error it removes, averaged over joints (explained_error.hpp), so overfitting is not rewarded
-/// (a coefficient fitted to noise does not lower the error on other data) and every joint counts
-/// alike whatever its torque scale. Candidates are ranked by it (near-ties to the simpler effect);
-/// those the held-out data support (explained_error.hpp: explaining at least min_explained,
-/// lowering the pooled error, and lowering some joint's error by min_gain of its torque) are
-/// suggestions. A model that lacks nothing gets none; nor does a model whose own fit did not
-/// converge (its candidates would all look good: a note says so).
+/// have is added on its own, the model refitted, and judged (candidate_evidence.hpp) by the share
+/// of the held-out mean-square error it removes, by the significance of that fall counted in
+/// independent residual samples, and by how much more believable it leaves the links
+/// (plausibility.hpp: each link against its URDF, outside the prior tolerance). Candidates are
+/// ranked by their score (explained + restored plausibility, near-ties to the simpler effect);
+/// those some evidence supports are suggestions, best first. A suggestion that adds nothing to the
+/// top one (refitted together, the pair is not supported over the top one alone) is marked as an
+/// alternative to it and not suggested: both explain the same residual or the same bent link.
+///
+/// Catalog: viscous, coulomb, offset, armature and spring on each joint; payloads on links.
 ///
 /// Links and payloads: a payload rigidly fixed to a link is the same, to the data, as a change of
-/// that link's inertia, which a fit with free links identifies already. Payload candidates are
-/// therefore tested only with hold_links (the links' URDF inertias trusted and held at their
-/// priors, rotors and payloads still fitted), where a payload is the question "which link carries
-/// more than its URDF says".
+/// that link's inertia. With free links (the default), a link whose identified body departs from
+/// its URDF by more than the prior tolerance is tested as `payload@link`: the link held at its URDF
+/// and a payload body fitted on it (mass, COM and inertia). With hold_links every link is held at
+/// its URDF and a payload is tested on every link.
+///
+/// Repeats: when the held-out data retrace the training trajectory (trajectory_overlap.hpp), a note
+/// says that they cannot reveal overfitting.
 ///
 /// Cost: the data enter once, through A^T A of a model holding every candidate (training) and
 /// per-joint A^T A (validation); each candidate then costs one fit on those statistics, warm-started
@@ -30,17 +34,33 @@
 #include <string>
 #include <vector>
 
+#include "inertial/estimation/candidate_evidence.hpp"
+#include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/estimation/joint_identification.hpp"
+#include "inertial/inertia/plausibility.hpp"
 
 namespace inertial {
+
+/// Departures count beyond kDepartureMargin standard deviations of the estimate (plausibility.hpp):
+/// a link's poorly excited directions stray by their uncertainty, not by a missing effect. Two: a
+/// true link inside the tolerance (a CAD model's ordinary error, factors up to about 1.4 against a
+/// tolerance of 1.75) must be pushed by noise past the tolerance and 2 standard deviations more to
+/// count, rare even among the tens of quantities of a robot's links (one-sided 2.3 % for a link at
+/// the tolerance itself, far less inside it); three would hide a payload as heavy as an arm's last
+/// link, whose mass the data fix to about a quarter of it.
+inline constexpr double kDepartureMargin = 2.0;
 
 /// Builds the robot's model with the given effects (throws std::invalid_argument on a bad effect).
 using RobotModelFactory = std::function<RobotDynamics(const std::vector<EffectSpec>& effects)>;
 
 struct JointDiagnosisOptions {
   JointIdentificationOptions fit;
-  /// Hold the links at their priors (see the file comment) and test payload candidates.
+  /// Hold the links at their priors (see the file comment) and test payload candidates on every link.
   bool hold_links = false;
+  /// With free links: test `payload@link` on every link outside the prior tolerance.
+  bool payloads = true;
+  /// A link is believable within a factor 1 + prior_tolerance of its URDF (plausibility.hpp).
+  double prior_tolerance = kDefaultPriorTolerance;
   /// Share of the held-out mean-square error (averaged over joints) a candidate must remove to be
   /// suggested.
   double min_explained = 0.02;
@@ -67,20 +87,34 @@ struct CandidateResult {
   bool converged = false;
   int iterations = 0;
   std::vector<double> values;  ///< the fitted coefficients (RobotDynamics::EffectValues); payload: pi
+  CandidateEvidence evidence;  ///< how it was judged (candidate_evidence.hpp)
+  std::vector<BodyPlausibility> plausibility;  ///< of every estimated body of its fit
+  double implausibility = 0.0;                 ///< B of its links
+  std::string alternative_to;  ///< a suggestion that adds nothing to this better one (see the file comment)
+  /// A payload: the standard deviations of its mass, COM and inertia (fit_uncertainty.hpp).
+  std::optional<BodyUncertainty> payload_std;
 };
 
 struct JointDiagnosis {
   std::vector<EffectSpec> effects;      ///< of the model diagnosed
   std::vector<bool> frozen_bodies;      ///< bodies held at their priors
   JointIdentificationResult fit;        ///< the model's fit on the training data
+  std::vector<std::string> body_names;  ///< of the model's estimated bodies
+  std::vector<bool> links;              ///< which estimated bodies are URDF links (not rotors or payloads)
+  std::vector<BodyPlausibility> plausibility;  ///< of every estimated body of the fit, against its prior
+  double implausibility = 0.0;          ///< B of the fit's links (candidate_evidence.hpp)
+  double prior_tolerance = kDefaultPriorTolerance;
+  Eigen::VectorXd residual_tau;         ///< per joint: autocorrelation time of the noise (candidate_evidence.hpp)
+  double retraced = 0.0;                ///< share of held-out samples retracing the training trajectory
   TorqueErrors fit_train, fit_validation, prior_validation;
   /// With effects: the held-out errors of the links alone (no effect), fitted the same way, so that
   /// the effects' gain shows (before -> after).
   std::optional<TorqueErrors> links_only_validation;
-  /// Every candidate tested, best first; the first num_suggestions of them are the suggestions.
+  /// Every candidate tested: the suggestions first, then the others, each part by score.
   std::vector<CandidateResult> candidates;
   int num_suggestions = 0;
-  std::vector<std::string> notes;  ///< what was not tested and why
+  std::vector<std::string> notes;  ///< what was not tested and why, repeats
+  std::string stop_reason;         ///< IterateJointDiagnosis: why the loop stopped
   int train_samples = 0, validation_samples = 0;
   double seconds = 0.0;            ///< wall time of the whole diagnosis
 };
@@ -95,9 +129,15 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
 /// One step of IterateJointDiagnosis: the effect added and the held-out errors before and after.
 struct DiagnosisStep {
   std::string added;                ///< e.g. "coulomb@knee"
-  double explained = 0.0;           ///< its score when it was added
+  double explained = 0.0;           ///< the held-out share it removed when it was added
+  CandidateEvidence evidence;       ///< how it was judged
   TorqueErrors before, after;       ///< held-out, of the model without and with it
+  double implausibility_before = 0.0, implausibility_after = 0.0;  ///< B of the links
+  std::vector<std::string> bent_before, bent_after;  ///< links outside the tolerance
 };
+
+/// The links (estimated bodies named after a URDF link) of a diagnosis's fit outside its tolerance.
+std::vector<std::string> BentLinks(const JointDiagnosis& d);
 
 /// Adds the top suggestion and diagnoses again, up to max_steps times or until nothing is
 /// suggested (the loop a user runs by hand with --effects). *steps gets the path; the returned

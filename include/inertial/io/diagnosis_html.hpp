@@ -5,7 +5,9 @@
 ///   torques.png            measured and model output per channel against time
 ///   residual_time.png      residual (model - measured) per channel against time
 ///   residual_velocity.png  residual against the channel's velocity (the friction signature: a
-///                          step at zero velocity is Coulomb friction, a slope viscous friction)
+///                          step at zero velocity is Coulomb friction, a slope viscous friction),
+///                          with the top suggestion's fitted effect drawn over the residual it explains
+/// The worst windows are shaded on the time plots; every axis spans its data (no empty margins).
 ///   errors.png             held-out RMS per channel before and after each effect
 /// and the ranked table of candidate effects with their explanations.
 #pragma once
@@ -27,10 +29,17 @@ struct DiagnosisPlotData {
   /// the held-out RMS per channel for each.
   std::vector<std::string> error_labels;
   std::vector<Eigen::VectorXd> error_rms;
+  /// Time windows [t_start, t_end] shaded on the time plots (the worst windows).
+  std::vector<std::pair<double, double>> marked_windows;
+  /// Optional curve over residual_velocity.png: at velocities effect_velocity (per channel column),
+  /// the residual the fitted effect explains (NaN: none on that channel), labelled effect_label.
+  Eigen::MatrixXd effect_velocity, effect_residual;
+  std::string effect_label;
 };
 
 struct DiagnosisTableRow {
   std::string effect, target;
+  double score = 0.0;       ///< the ranking's score (candidate_evidence.hpp), shown as a percentage
   double explained = 0.0;   ///< share of the held-out mean-square error removed
   double rms_after = 0.0;   ///< held-out RMS, all channels, with the effect
   bool suggested = false;

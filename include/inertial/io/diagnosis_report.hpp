@@ -7,7 +7,10 @@
 /// without effects, held-out), rms_links_only (with --effects: the links alone), rms_train, effects
 /// (the model's, with fitted values), suggestions [{effect, joint | link, rms_validation_after
 /// {joint..., total}, explained, explanation, values}], candidates (every one tested, same fields,
-/// with suggested), physically_consistent, bodies (identified parameters, as identify's JSON),
+/// with suggested, score, evidence {explained, significance, threshold, restored, by_size,
+/// by_significance, by_plausibility}, alternative_to), physically_consistent, bodies (identified
+/// parameters, as identify's JSON), plausibility (PlausibilityJson), prior_tolerance,
+/// implausibility, bent_links, validation_retraces_training (share of held-out samples),
 /// where_it_fails {worst_windows [{t_start, t_end, rms, worst_joint}], joints {j: {mean,
 /// velocity_sign_step, viscous_slope, acceleration_slope, position_slope, torque_slope,
 /// correlations{...}, explained}}}, min_explained, notes, seconds, samples.
@@ -36,6 +39,13 @@ struct JointDiagnosisContext {
   Eigen::MatrixXd predicted;       ///< the fitted model's torques on the held-out samples
   ResidualAnalysis residuals;      ///< of those predictions
 };
+
+/// Every identified body against its URDF (plausibility.hpp): mass ratio, COM shift, principal
+/// moment ratios, divergence, factor; and a line for each link that bends beyond the tolerance.
+std::string PlausibilityText(const RobotDynamics& model, const JointDiagnosis& d);
+/// [{name, mass, mass_prior, mass_ratio, com_shift_mm, com_shift_relative, principal_moment_ratios,
+/// inertia_change, divergence, factor, raw_factor, link, within_tolerance}] (infinities as "inf").
+nlohmann::json PlausibilityJson(const RobotDynamics& model, const JointDiagnosis& d);
 
 /// "Where it fails (<what>)": the worst windows and each joint's residual signature, as text.
 std::string WhereItFailsText(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals,
