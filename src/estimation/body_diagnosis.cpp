@@ -159,7 +159,7 @@ BodyDiagnosis Diagnose(const InertialParams& prior, const std::vector<BodyEffect
     Eigen::VectorXd tau(6);
     for (int c = 0; c < 6; ++c) tau[c] = IntegratedAutocorrelationTime(j.residual.col(c));
     r.evidence = JudgeCandidate(out.fit_validation, r.validation, tau, out.validation_pairs, 0.0, 0.0,
-                                ParameterCount(kind), false, rules);
+                                ParameterCount(kind), PriorOdds::kOrdinary, rules);
     r.explained = r.evidence.explained;
     r.converged = j.converged;
     r.iterations = j.iterations;

@@ -35,7 +35,8 @@ double LinksImplausibility(const std::vector<BodyPlausibility>& bodies, const st
 
 CandidateEvidence JudgeCandidate(const TorqueErrors& without, const TorqueErrors& with, const Eigen::VectorXd& tau,
                                  int samples, double implausibility_without, double implausibility_with,
-                                 int parameters, bool rare, const EvidenceRules& rules) {
+                                 int parameters, PriorOdds odds, const EvidenceRules& rules) {
+  const bool rare = odds == PriorOdds::kRare;
   const Eigen::Index C = without.rms.size();
   if (C == 0 || with.rms.size() != C || tau.size() != C || samples <= 0) {
     throw std::invalid_argument("candidate evidence: channel counts or sample count do not match");
@@ -60,8 +61,9 @@ CandidateEvidence JudgeCandidate(const TorqueErrors& without, const TorqueErrors
   const double bic = parameters * std::log(static_cast<double>(samples) * static_cast<double>(C));
   const bool size = SupportedByHeldOutData(without, with, e.explained, (rare ? 2.0 : 1.0) * rules.min_explained,
                                            rules.min_gain) &&
-                    e.significance >= bic;
-  const bool significant = pooled_falls && e.significance >= e.threshold && !bends;
+                    (odds == PriorOdds::kCommon ? e.significance > 0.0 : e.significance >= bic);
+  const bool significant =
+      pooled_falls && e.significance >= e.threshold && e.explained >= kMinSignificantShare && !bends;
   if (rare) {
     e.by_size = e.by_significance = size && e.significance >= e.threshold;
     e.score -= kRareEffectPenalty;

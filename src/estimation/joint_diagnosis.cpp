@@ -70,10 +70,30 @@ int CandidateParameters(EffectKind kind) {
 // Every estimated body of the fit against its prior, both in the body's report frame.
 std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const JointNormalEquations& eq,
                                              const Eigen::VectorXd& x, const JointIdentificationOptions& options,
-                                             std::vector<BodyUncertainty>* stds) {
+                                             double tolerance, std::vector<BodyUncertainty>* stds) {
+  // Margins only shrink departures: the uncertainty (one P x P decomposition) is needed only when
+  // some link departs beyond the tolerance by its estimate alone.
+  // A payload's own standard deviations are reported: always needed with one.
+  bool needed = false;
+  for (size_t e = 0; e < model.bodies().size() && !needed; ++e) {
+    if (!options.frozen_bodies.empty() && options.frozen_bodies[e]) continue;
+    if (model.bodies()[e].name.rfind("payload@", 0) == 0) {
+      needed = true;
+      break;
+    }
+    Eigen::VectorXd x_prior = x;
+    x_prior.segment<10>(10 * static_cast<int>(e)).setZero();
+    try {
+      needed = !MeasurePlausibility(model.BodyInertia(static_cast<int>(e), x),
+                                    model.BodyInertia(static_cast<int>(e), x_prior))
+                    .Within(tolerance);
+    } catch (const std::invalid_argument&) {
+      needed = true;
+    }
+  }
   FitUncertainty u;
   try {
-    u = EstimateFitUncertainty(model, eq, x, options.prior_weight, options.frozen_bodies);
+    if (needed) u = EstimateFitUncertainty(model, eq, x, options.prior_weight, options.frozen_bodies);
   } catch (const std::invalid_argument&) {
     // No residual degrees of freedom: no margins.
   }
@@ -116,6 +136,7 @@ struct Job {
   TorqueErrors validation;
   std::vector<BodyPlausibility> plausibility;
   std::vector<BodyUncertainty> stds;  // per estimated body (empty without residual degrees of freedom)
+  double tolerance = kDefaultPriorTolerance;
 };
 
 void RunJob(Job* job, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation) {
@@ -128,7 +149,7 @@ void RunJob(Job* job, const JointNormalEquations& train, const std::vector<Joint
   v.reserve(validation.size());
   for (const JointNormalEquations& e : validation) v.push_back(Restrict(e, job->features));
   job->validation = ErrorsFromNormalEquations(v, job->model->Coefficients(job->fit.x));
-  job->plausibility = PlausibilityOf(*job->model, eq, job->fit.x, job->options, &job->stds);
+  job->plausibility = PlausibilityOf(*job->model, eq, job->fit.x, job->options, job->tolerance, &job->stds);
 }
 
 void RunJobs(std::vector<Job>& jobs, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation,
@@ -177,9 +198,54 @@ TorqueErrors ErrorsFromNormalEquations(const std::vector<JointNormalEquations>& 
   return e;
 }
 
-JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
-                                  const std::vector<std::string>& payload_links, const JointSamples& train,
-                                  const JointSamples& validation, const JointDiagnosisOptions& options) {
+namespace {
+
+// What every diagnosis of one pair of logs shares: the statistics of a model holding every
+// candidate (its features hold every model's), the noise's correlation time, the retrace share.
+// IterateJointDiagnosis computes it once for all its steps (each step's models are sub-models of
+// the first step's catalog).
+struct Prepared {
+  std::optional<RobotDynamics> catalog;
+  std::unordered_map<std::string, int> index;
+  JointNormalEquations train_eq;
+  std::vector<JointNormalEquations> validation_eq;
+  Eigen::VectorXd residual_tau;
+  double retraced = 0.0;
+};
+
+Prepared Prepare(const RobotModelFactory& make, const std::vector<EffectSpec>& catalog_effects,
+                 const JointSamples& train, const JointSamples& validation) {
+  Prepared p;
+  p.catalog.emplace(make(catalog_effects));
+  const RobotDynamics& catalog = *p.catalog;
+  const std::vector<std::string> names = catalog.FeatureNames();
+  for (int f = 0; f < static_cast<int>(names.size()); ++f) p.index[names[f]] = f;
+  p.train_eq = AccumulateNormalEquations(catalog, train);
+  p.validation_eq = AccumulateJointwiseNormalEquations(catalog, validation);
+  // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on what
+  // the most complete model leaves (every candidate, links free, linear least squares on the
+  // training data), since the model's own residual is coloured by the very effects it lacks.
+  Eigen::MatrixXd H = p.train_eq.AtA;
+  H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
+  const Eigen::VectorXd w_catalog = H.ldlt().solve(p.train_eq.Atb);
+  const int n = catalog.num_dofs();
+  Eigen::MatrixXd residual(validation.size(), n);
+  Eigen::MatrixXd A(n, catalog.num_features());
+  TreeWorkspace workspace = catalog.MakeWorkspace();
+  for (int i = 0; i < validation.size(); ++i) {
+    catalog.Features(validation.q.row(i).transpose(), validation.qd.row(i).transpose(),
+                     validation.qdd.row(i).transpose(), &workspace, A);
+    residual.row(i) = (A * w_catalog - validation.tau.row(i).transpose()).transpose();
+  }
+  p.residual_tau.resize(n);
+  for (int j = 0; j < n; ++j) p.residual_tau[j] = IntegratedAutocorrelationTime(residual.col(j));
+  p.retraced = RetracedShare(train, validation);
+  return p;
+}
+
+JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                        const std::vector<std::string>& payload_links, const JointSamples& train,
+                        const JointSamples& validation, const JointDiagnosisOptions& options, Prepared* prepared) {
   const auto start = std::chrono::steady_clock::now();
   JointDiagnosis out;
   out.effects = effects;
@@ -229,26 +295,43 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
     }
   }
 
+  // Every candidate model must be determined by the training data: more torque equations than the
+  // parameters of the largest one (the model with a payload or a spring added).
+  {
+    int largest = 0;
+    for (const EffectSpec& c : candidates) largest = std::max(largest, CandidateParameters(c.kind));
+    if (options.hold_links || options.payloads) largest = std::max(largest, CandidateParameters(EffectKind::kPayload));
+    const long equations = static_cast<long>(train.size()) * base.num_dofs();
+    if (equations <= base.num_parameters() + largest) {
+      throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
+                                  std::to_string(equations) + " torque equations, too few for the " +
+                                  std::to_string(base.num_parameters() + largest) +
+                                  " parameters of the largest model tested (give a longer log)");
+    }
+  }
   // One model with every joint candidate: its features hold every model's features.
   std::vector<EffectSpec> catalog_effects = effects;
   for (const EffectSpec& s : candidates) {
     if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
   }
-  const RobotDynamics catalog = make(catalog_effects);
-  std::unordered_map<std::string, int> catalog_index;
-  const std::vector<std::string> catalog_names = catalog.FeatureNames();
-  for (int f = 0; f < static_cast<int>(catalog_names.size()); ++f) catalog_index[catalog_names[f]] = f;
+  Prepared local;
+  if (prepared == nullptr || !prepared->catalog) {
+    local = Prepare(make, catalog_effects, train, validation);
+    if (prepared != nullptr) *prepared = local;
+  }
+  const Prepared& data = prepared != nullptr ? *prepared : local;
+  const RobotDynamics& catalog = *data.catalog;
   auto features_of = [&](const RobotDynamics& m) {
     std::vector<int> index;
     for (const std::string& name : m.FeatureNames()) {
-      const auto it = catalog_index.find(name);
-      if (it == catalog_index.end()) throw std::logic_error("diagnosis: feature " + name + " not in the catalog");
+      const auto it = data.index.find(name);
+      if (it == data.index.end()) throw std::logic_error("diagnosis: feature " + name + " not in the catalog");
       index.push_back(it->second);
     }
     return index;
   };
-  const JointNormalEquations train_eq = AccumulateNormalEquations(catalog, train);
-  const std::vector<JointNormalEquations> validation_eq = AccumulateJointwiseNormalEquations(catalog, validation);
+  const JointNormalEquations& train_eq = data.train_eq;
+  const std::vector<JointNormalEquations>& validation_eq = data.validation_eq;
   out.train_samples = train.size();
   out.validation_samples = validation.size();
 
@@ -257,6 +340,7 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   base_job[0].model.emplace(base);
   base_job[0].features = features_of(base);
   base_job[0].options = options.fit;
+  base_job[0].tolerance = options.prior_tolerance;
   base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links);
   RunJobs(base_job, train_eq, validation_eq, 1);
   out.frozen_bodies = base_job[0].options.frozen_bodies;
@@ -266,31 +350,13 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   out.links = LinkBodies(base);
   for (const EstimatedBody& b : base.bodies()) out.body_names.push_back(b.name);
   out.implausibility = LinksImplausibility(out.plausibility, out.links, options.prior_tolerance);
-  {
-    // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on
-    // what the most complete model leaves (every candidate, links free, linear least squares on the
-    // training data), since the model's own residual is coloured by the very effects it lacks.
-    Eigen::MatrixXd H = train_eq.AtA;
-    H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
-    const Eigen::VectorXd w_catalog = H.ldlt().solve(train_eq.Atb);
-    const int n = catalog.num_dofs();
-    Eigen::MatrixXd residual(validation.size(), n);
-    Eigen::MatrixXd A(n, catalog.num_features());
-    TreeWorkspace workspace = catalog.MakeWorkspace();
-    for (int i = 0; i < validation.size(); ++i) {
-      catalog.Features(validation.q.row(i).transpose(), validation.qd.row(i).transpose(),
-                       validation.qdd.row(i).transpose(), &workspace, A);
-      residual.row(i) = (A * w_catalog - validation.tau.row(i).transpose()).transpose();
-    }
-    out.residual_tau.resize(n);
-    for (int j = 0; j < n; ++j) out.residual_tau[j] = IntegratedAutocorrelationTime(residual.col(j));
-    out.retraced = RetracedShare(train, validation);
-    if (out.retraced >= kRetracedShare) {
-      out.notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out.retraced))) +
-                          " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
-                          "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
-                          "validate on a different trajectory");
-    }
+  out.residual_tau = data.residual_tau;
+  out.retraced = data.retraced;
+  if (out.retraced >= kRetracedShare) {
+    out.notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out.retraced))) +
+                        " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
+                        "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
+                        "validate on a different trajectory");
   }
   // Free links: a link the fit bends beyond the tolerance may carry a payload.
   std::set<std::string> payload_tests;
@@ -323,6 +389,7 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
     links[0].model.emplace(make({}));
     links[0].features = features_of(*links[0].model);
     links[0].options = options.fit;
+    links[0].tolerance = options.prior_tolerance;
     links[0].options.frozen_bodies = FrozenBodies(*links[0].model, options.hold_links);
     RunJobs(links, train_eq, validation_eq, 1);
     out.links_only_validation = links[0].validation;
@@ -340,6 +407,7 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
     job.model.emplace(make(with));
     job.features = features_of(*job.model);
     job.options = options.fit;
+    job.tolerance = options.prior_tolerance;
     job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with, payload_tests));
     const JointNormalEquations eq = Restrict(train_eq, job.features);
     job.options.initial = DefaultInitialParameters(*job.model, eq, job.options.frozen_bodies);
@@ -371,7 +439,10 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
     r->plausibility = job.plausibility;
     r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
     r->evidence = JudgeCandidate(without, job.validation, out.residual_tau, validation.size(), b_without,
-                                 r->implausibility, CandidateParameters(spec.kind), spec.kind == EffectKind::kSpring,
+                                 r->implausibility, CandidateParameters(spec.kind),
+                                 spec.kind == EffectKind::kSpring    ? PriorOdds::kRare
+                                 : spec.kind == EffectKind::kPayload ? PriorOdds::kOrdinary
+                                                                     : PriorOdds::kCommon,
                                  rules);
     r->explained = r->evidence.explained;
   };
@@ -450,13 +521,22 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
   return out;
 }
 
+}  // namespace
+
+JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                                  const std::vector<std::string>& payload_links, const JointSamples& train,
+                                  const JointSamples& validation, const JointDiagnosisOptions& options) {
+  return Diagnose(make, effects, payload_links, train, validation, options, nullptr);
+}
+
 JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
                                      const std::vector<std::string>& payload_links, const JointSamples& train,
                                      const JointSamples& validation, const JointDiagnosisOptions& options,
                                      int max_steps, std::vector<DiagnosisStep>* steps) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<EffectSpec> current = effects;
-  JointDiagnosis d = DiagnoseJointModel(make, current, payload_links, train, validation, options);
+  Prepared prepared;  // the first step's statistics serve every step
+  JointDiagnosis d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
   steps->clear();
   for (int step = 0; step < max_steps && d.num_suggestions > 0; ++step) {
     const CandidateResult& top = d.candidates[0];
@@ -468,7 +548,7 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
     s.implausibility_before = d.implausibility;
     s.bent_before = BentLinks(d);
     current.push_back(top.spec);
-    d = DiagnoseJointModel(make, current, payload_links, train, validation, options);
+    d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
     s.after = d.fit_validation;
     s.implausibility_after = d.implausibility;
     s.bent_after = BentLinks(d);

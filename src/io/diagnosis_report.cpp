@@ -84,9 +84,18 @@ std::string CandidateNotSuggested(const JointDiagnosis& d, const CandidateResult
   }
   std::string why = NotSuggested(d.fit_validation, r.validation, r.explained, min_explained, min_gain);
   if (r.evidence.by_size || r.evidence.by_significance || r.evidence.by_plausibility) return why;
-  why += "; significance " + F(r.evidence.significance, "%.3g") + " < " + F(r.evidence.threshold, "%.3g");
-  if (d.implausibility > 0.0) why += "; restores " + Percent(r.evidence.restored) + " of the links' plausibility (50 % needed)";
-  if (r.implausibility > d.implausibility) why += "; it bends the links further";
+  const CandidateEvidence& e = r.evidence;
+  if (e.significance < e.threshold) {
+    why += "; significance " + F(e.significance, "%.3g") + " < " + F(e.threshold, "%.3g");
+  } else if (e.explained < kMinSignificantShare) {
+    why += "; significant (" + F(e.significance, "%.3g") + " >= " + F(e.threshold, "%.3g") + ") but below " +
+           Percent(kMinSignificantShare) + " of the error";
+  }
+  const bool bends = r.implausibility > d.implausibility + kMaxBend * std::log1p(d.prior_tolerance);
+  if (d.implausibility > 0.0 && !bends) {
+    why += "; restores " + Percent(e.restored) + " of the links' plausibility (50 % needed)";
+  }
+  if (bends) why += "; it bends the links further";
   if (r.spec.kind == EffectKind::kSpring) why += " (a spring needs both the held-out size and the significance)";
   return why;
 }

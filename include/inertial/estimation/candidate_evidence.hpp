@@ -4,9 +4,10 @@
 ///
 /// 1. Held-out size (explained_error.hpp): the candidate removes at least min_explained of the
 ///    held-out mean-square error (averaged over channels), the pooled error falls, some channel's
-///    held-out RMS falls by min_gain of its measured RMS, and z below reaches p ln(N C), the BIC
-///    bound for p parameters (a share of a short log's error can be large and still noise: on the
-///    paper's 63-sample logs that was most false alarms). Catches effects that leave a
+///    held-out RMS falls by min_gain of its measured RMS, and z below is positive for a common
+///    effect, or reaches p ln(N C), the BIC bound for p parameters, for an ordinary one (see Prior
+///    odds; a share of a short log's error can be large and still noise: on the paper's 63-sample
+///    logs that was most false alarms). Catches effects that leave a
 ///    large residual; blind to effects that are small next to the torques or that the links absorb.
 ///
 /// 2. Held-out significance. On the held-out rows (which no fit sees), the fall of the squared
@@ -17,8 +18,10 @@
 ///    samples that carry one independent residual). z = sum_c z_c is the log-likelihood gain of
 ///    the candidate on data it was not fitted to, counted in independent samples. For a candidate
 ///    the data do not need, z is O(1) and negative on average (a coefficient fitted to noise
-///    raises the held-out error), so z >= (p + 1) ln(N C) (C channels, p the candidate's
-///    parameters) is a BIC-like bound (p ln of the rows) with one more ln(N C) of margin for the
+///    raises the held-out error). A candidate is significant when z >= (p + 1) ln(N C) and it
+///    removes at least kMinSignificantShare of the held-out error (with tens of thousands of rows
+///    a fall of 0.1 % can be certain and still not worth a parameter). (p + 1) ln(N C) (C channels,
+///    p the candidate's parameters) is a BIC-like bound (p ln of the rows) with one more ln(N C) of margin for the
 ///    number of candidates tested; a 6-parameter twist bias needs more than a 1-parameter offset,
 ///    as a chi-square of 6 degrees of freedom is larger than one of 1 under the null.
 ///    Why not a significance test on the training cost (a likelihood ratio or an F test): on a real
@@ -45,9 +48,16 @@
 /// held-out gain is the effect's own (Coulomb friction on a wrist, with links already far from a
 /// wrong URDF, can move them further while explaining a third of the error).
 ///
-/// Prior odds. A spring on a joint that has none is rarer than friction or a sensor offset, and a
-/// spring of small stiffness and large rest angle imitates an offset or a slow drift of any
-/// residual; so a spring needs both held-out size (at twice min_explained) and significance.
+/// Prior odds. Evidence is weighed against how common the effect is before any data are seen
+/// (a Bayesian would add 2 ln of the prior odds to the bar):
+///  - common: friction (viscous, Coulomb), a torque offset and rotor armature exist on nearly every
+///    actuated joint of a real robot (gears, seals, current-based torque): held-out size with a
+///    positive z suffices. On a real arm the residual is coloured over hundreds of samples, so z
+///    stays small for effects the arm certainly has; the BIC bar would stop the loop early.
+///  - ordinary: a payload, a single-body sensor's biases: size needs z >= p ln(N C).
+///  - rare: a spring on a joint that has none (a spring of small stiffness and large rest angle
+///    imitates an offset or a slow drift of any residual): both size (at twice min_explained) and
+///    significance.
 ///
 /// Ranking (what reports show): candidates the held-out data support (routes 1, 2) come first,
 /// scored by explained; then those only plausibility supports (route 3), scored by restored; then
@@ -69,6 +79,12 @@ namespace inertial {
 /// See the file comment. Candidates that raise the links' implausibility by more than this share
 /// of the tolerance's log are not suggested.
 inline constexpr double kMaxBend = 0.1;
+/// The smallest held-out share a significant candidate must remove (route 2): a quarter of the
+/// default min_explained; an offset the links absorb removes about 1-2 % of its joint's.
+inline constexpr double kMinSignificantShare = 0.005;
+/// How common an effect is before any data are seen (see Prior odds).
+enum class PriorOdds { kCommon, kOrdinary, kRare };
+
 /// A rare kind's score is lowered by this (a spring ranks below an offset or friction that explains
 /// nearly as much).
 inline constexpr double kRareEffectPenalty = 0.02;
@@ -104,9 +120,9 @@ struct CandidateEvidence {
 /// @param tau per channel, the model's (without) residual autocorrelation time.
 /// @param samples held-out samples per channel (N).
 /// @param implausibility_without, implausibility_with B of the two fits.
-/// @param parameters the candidate's parameter count; @param rare a kind that needs more evidence.
+/// @param parameters the candidate's parameter count; @param odds how common its kind is.
 CandidateEvidence JudgeCandidate(const TorqueErrors& without, const TorqueErrors& with, const Eigen::VectorXd& tau,
                                  int samples, double implausibility_without, double implausibility_with,
-                                 int parameters, bool rare, const EvidenceRules& rules);
+                                 int parameters, PriorOdds odds, const EvidenceRules& rules);
 
 }  // namespace inertial
