@@ -136,6 +136,7 @@ BodyDiagnosis Diagnose(const InertialParams& prior, const std::vector<BodyEffect
     throw std::invalid_argument("single-body diagnosis: the model's wrenches are not finite numbers (check the data's "
                                 "magnitudes and units)");
   }
+  // Reported: the model's own held-out residual's correlation (candidates are judged on their own).
   out.residual_tau.resize(6);
   for (int c = 0; c < 6; ++c) out.residual_tau[c] = IntegratedAutocorrelationTime(b.residual.col(c));
   EvidenceRules rules;
@@ -174,7 +175,9 @@ BodyDiagnosis Diagnose(const InertialParams& prior, const std::vector<BodyEffect
   while (suggested < static_cast<int>(out.candidates.size()) && out.candidates[suggested].evidence.suggested()) {
     ++suggested;
   }
-  out.num_suggestions = b.converged ? suggested : 0;
+  // The model's own fit on the whole log must have converged (a fold fit that did not only makes
+  // its block's prediction worse, which weakens the evidence, not the judgement).
+  out.num_suggestions = b.fit.lm.converged() ? suggested : 0;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

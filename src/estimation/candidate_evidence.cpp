@@ -28,7 +28,9 @@ double LinksImplausibility(const std::vector<BodyPlausibility>& bodies, const st
                            double tolerance) {
   double b = 0.0;
   for (size_t e = 0; e < bodies.size() && e < links.size(); ++e) {
-    if (links[e]) b += bodies[e].Excess(tolerance);
+    if (!links[e]) continue;
+    const double x = bodies[e].Excess(tolerance);
+    b += std::isfinite(x) ? x : kUnmeasurableExcess;
   }
   return b;
 }
@@ -51,6 +53,7 @@ CandidateEvidence JudgeCandidate(const TorqueErrors& without, const TorqueErrors
   const double unit = std::log1p(rules.prior_tolerance);
   e.restored = implausibility_without > 0.0 ? (implausibility_without - implausibility_with) / implausibility_without
                                             : -implausibility_with / unit;
+  if (!std::isfinite(e.restored)) e.restored = 0.0;
   e.score = RankingKey(e.explained, parameters);
   if (!std::isfinite(e.explained) || !std::isfinite(e.significance) || !std::isfinite(e.restored)) {
     e.score = -std::numeric_limits<double>::infinity();
@@ -59,19 +62,21 @@ CandidateEvidence JudgeCandidate(const TorqueErrors& without, const TorqueErrors
   const bool bends = implausibility_with > implausibility_without + kMaxBend * unit;
   const bool pooled_falls = with.total_rms < without.total_rms;
   const double bic = parameters * std::log(static_cast<double>(samples) * static_cast<double>(C));
-  const bool size = SupportedByHeldOutData(without, with, e.explained, (rare ? 2.0 : 1.0) * rules.min_explained,
-                                           rules.min_gain) &&
-                    (odds == PriorOdds::kCommon ? e.significance > 0.0 : e.significance >= bic);
+  e.size_conditions =
+      SupportedByHeldOutData(without, with, e.explained, (rare ? 2.0 : 1.0) * rules.min_explained, rules.min_gain);
+  e.size_bar = odds == PriorOdds::kCommon ? 0.0 : (rare ? e.threshold : bic);
+  const bool size = e.size_conditions && (odds == PriorOdds::kCommon ? e.significance > 0.0 : e.significance >= bic);
   const bool significant =
       pooled_falls && e.significance >= e.threshold && e.explained >= kMinSignificantShare && !bends;
   if (rare) {
-    e.by_size = e.by_significance = size && e.significance >= e.threshold;
+    e.by_size = e.by_significance = size && e.significance >= e.threshold && !bends;
     e.score -= kRareEffectPenalty;
     return e;
   }
   e.by_size = size;
   e.by_significance = significant;
-  e.by_plausibility = !bends && implausibility_without > 0.0 && e.restored >= 0.5 && e.explained > -rules.min_explained;
+  e.by_plausibility = !bends && implausibility_without >= kMinExcess && e.restored >= 0.5 &&
+                      e.explained > -rules.min_explained;
   if (e.group() == 1) e.score = RankingKey(e.restored, parameters);
   return e;
 }

@@ -44,11 +44,13 @@ std::vector<bool> LinkBodies(const RobotDynamics& model) {
 }
 
 // hold_links: every link held at its URDF; else only `held_link` (a payload candidate's link), if any.
-// The links that payload candidates among `effects` hold at their URDF (free-link mode).
-std::set<std::string> HeldLinks(const std::vector<EffectSpec>& effects, const std::set<std::string>& payload_tests) {
+// The links a payload among `effects` holds at their URDF: with free links, a link and a payload
+// on it would share the link's regressor columns (only the regularizer would split them), so the
+// payload carries the departure from the URDF, as when it was judged as a candidate.
+std::set<std::string> HeldLinks(const std::vector<EffectSpec>& effects) {
   std::set<std::string> held;
   for (const EffectSpec& e : effects) {
-    if (e.kind == EffectKind::kPayload && payload_tests.count(e.target) > 0) held.insert(e.target);
+    if (e.kind == EffectKind::kPayload) held.insert(e.target);
   }
   return held;
 }
@@ -113,6 +115,10 @@ std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const J
       T.block<3, 3>(0, 1).setIdentity();
       margins.first_moment = kDepartureMargin * kDepartureMargin * T * u.body_pi_covariance[e] * T.transpose();
       margins.inertia_about_com = kDepartureMargin * u.bodies[e].inertia_about_com;
+      if (!std::isfinite(u.bodies[e].mass) || !u.bodies[e].com.allFinite()) {
+        // Mass or COM undetermined: so is the first moment's departure (no departure counted).
+        margins.first_moment = std::numeric_limits<double>::infinity() * Matrix3::Identity();
+      }
     }
     try {
       out.push_back(MeasurePlausibility(model.BodyInertia(i, x), prior, margins));
@@ -341,7 +347,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   base_job[0].features = features_of(base);
   base_job[0].options = options.fit;
   base_job[0].tolerance = options.prior_tolerance;
-  base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links);
+  base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links, HeldLinks(effects));
   RunJobs(base_job, train_eq, validation_eq, 1);
   out.frozen_bodies = base_job[0].options.frozen_bodies;
   out.fit = base_job[0].fit;
@@ -408,7 +414,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
     job.features = features_of(*job.model);
     job.options = options.fit;
     job.tolerance = options.prior_tolerance;
-    job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with, payload_tests));
+    job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with));
     const JointNormalEquations eq = Restrict(train_eq, job.features);
     job.options.initial = DefaultInitialParameters(*job.model, eq, job.options.frozen_bodies);
     const std::vector<std::string> names = job.model->ParameterNames();

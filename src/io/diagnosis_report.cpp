@@ -75,28 +75,43 @@ std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, 
          " of a residual that small is not a missing effect)";
 }
 
-// Why a robot candidate is not suggested, all evidence considered (candidate_evidence.hpp).
-std::string CandidateNotSuggested(const JointDiagnosis& d, const CandidateResult& r, double min_explained,
-                                  double min_gain) {
-  if (!r.alternative_to.empty()) {
-    return "an alternative to " + r.alternative_to + ": refitted together with it, it adds nothing (both explain the "
-           "same residual or straighten the same link)";
+// Why the evidence does not support a candidate (candidate_evidence.hpp's routes 1 and 2).
+std::string WhyNot(const CandidateEvidence& e, const TorqueErrors& without, const TorqueErrors& with,
+                   double min_explained, double min_gain, bool rare) {
+  std::string why;
+  if (!e.size_conditions) {
+    why = NotSuggested(without, with, e.explained, (rare ? 2.0 : 1.0) * min_explained, min_gain);
+  } else {
+    why = "not supported: it removes " + Percent(e.explained) + " of the held-out error, but its gain counted in "
+          "independent samples (" + F(e.significance, "%.3g") + ") is " +
+          (e.size_bar > 0.0 ? "below " + F(e.size_bar, "%.3g") : std::string("not positive")) +
+          " (the residual is coloured: its samples are not independent)";
   }
-  std::string why = NotSuggested(d.fit_validation, r.validation, r.explained, min_explained, min_gain);
-  if (r.evidence.by_size || r.evidence.by_significance || r.evidence.by_plausibility) return why;
-  const CandidateEvidence& e = r.evidence;
   if (e.significance < e.threshold) {
     why += "; significance " + F(e.significance, "%.3g") + " < " + F(e.threshold, "%.3g");
   } else if (e.explained < kMinSignificantShare) {
     why += "; significant (" + F(e.significance, "%.3g") + " >= " + F(e.threshold, "%.3g") + ") but below " +
            Percent(kMinSignificantShare) + " of the error";
   }
+  if (rare) why += " (a spring needs both the held-out size and the significance)";
+  return why;
+}
+
+// Why a robot candidate is not suggested, all evidence considered (candidate_evidence.hpp).
+std::string CandidateNotSuggested(const JointDiagnosis& d, const CandidateResult& r, double min_explained,
+                                  double min_gain) {
+  if (!d.fit.lm.converged()) return "not suggested: the model's own fit did not converge (see the note)";
+  if (!r.alternative_to.empty()) {
+    return "an alternative to " + r.alternative_to + ": refitted together with it, it adds nothing (both explain the "
+           "same residual or straighten the same link)";
+  }
+  const CandidateEvidence& e = r.evidence;
+  std::string why = WhyNot(e, d.fit_validation, r.validation, min_explained, min_gain, r.spec.kind == EffectKind::kSpring);
   const bool bends = r.implausibility > d.implausibility + kMaxBend * std::log1p(d.prior_tolerance);
   if (d.implausibility > 0.0 && !bends) {
     why += "; restores " + Percent(e.restored) + " of the links' plausibility (50 % needed)";
   }
   if (bends) why += "; it bends the links further";
-  if (r.spec.kind == EffectKind::kSpring) why += " (a spring needs both the held-out size and the significance)";
   return why;
 }
 
@@ -577,7 +592,7 @@ std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
   out << "\nHeld-out wrench error, RMS (relative): prior -> fitted model\n";
   ErrorTable(out, names, d.prior_validation, d.fit_validation, "N m or N");
   out << "\nMissing effects, ranked by the share of the held-out mean-square error they remove (suggested from "
-      << Percent(c.min_explained) << ")\n";
+      << Percent(c.min_explained) << " with a gain of at least p ln(rows) independent samples, or when significant)\n";
   if (d.num_suggestions == 0) {
     out << (d.fit.lm.converged() ? "  No missing effect found: no candidate is supported by the held-out data.\n"
                                  : "  No suggestion: the model's own fit did not converge (raise --max-iterations).\n");
@@ -585,9 +600,13 @@ std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
   for (int i = 0; i < static_cast<int>(d.candidates.size()); ++i) {
     const BodyCandidateResult& r = d.candidates[i];
     out << "  " << (i < d.num_suggestions ? std::to_string(i + 1) + ". " : "(not suggested) ") << ToString(r.kind)
-        << ": explains " << Percent(r.explained) << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> "
+        << " (score " << ScoreText(r.evidence) << "): explains " << Percent(r.explained) << ", significance "
+        << F(r.evidence.significance, "%.3g") << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> "
         << F(r.validation.total_rms, "%.4g") << "\n";
-    if (i < d.num_suggestions) out << "     " << BodyCandidateExplanation(r) << "\n";
+    out << "     "
+        << (i < d.num_suggestions ? BodyCandidateExplanation(r)
+                                  : WhyNot(r.evidence, d.fit_validation, r.validation, c.min_explained, c.min_gain, false))
+        << "\n";
   }
   return out.str();
 }
@@ -629,8 +648,11 @@ nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c) {
                         {"explained", r.explained},
                         {"explanation", i < d.num_suggestions
                                             ? BodyCandidateExplanation(r)
-                                            : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
-                                                           c.min_gain)},
+                                            : WhyNot(r.evidence, d.fit_validation, r.validation, c.min_explained,
+                                                     c.min_gain, false)},
+                        {"score", r.evidence.score},
+                        {"significance", r.evidence.significance},
+                        {"threshold", r.evidence.threshold},
                         {"values", std::vector<double>(r.values.data(), r.values.data() + r.values.size())},
                         {"converged", r.converged},
                         {"suggested", i < d.num_suggestions}};
@@ -640,6 +662,10 @@ nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c) {
   j["suggestions"] = suggestions;
   j["candidates"] = candidates;
   j["min_explained"] = c.min_explained;
+  j["folds"] = d.folds;
+  nlohmann::json tau = nlohmann::json::object();
+  for (int k = 0; k < 6 && k < d.residual_tau.size(); ++k) tau[kWrenchChannels[k]] = d.residual_tau[k];
+  j["residual_correlation_time"] = tau;
   j["seconds"] = d.seconds;
   return j;
 }
@@ -674,8 +700,8 @@ void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisC
     const BodyCandidateResult& r = d.candidates[i];
     rows.push_back({std::string(ToString(r.kind)), "body", r.evidence.score, r.explained, r.validation.total_rms, i < d.num_suggestions,
                     i < d.num_suggestions ? BodyCandidateExplanation(r)
-                                          : NotSuggested(d.fit_validation, r.validation, r.explained, c.min_explained,
-                                                         c.min_gain)});
+                                          : WhyNot(r.evidence, d.fit_validation, r.validation, c.min_explained,
+                                                   c.min_gain, false)});
   }
   std::vector<std::string> summary{"Held-out RMS wrench error: prior " + F(d.prior_validation.total_rms, "%.4g") +
                                    ", fitted model " + F(d.fit_validation.total_rms, "%.4g") + " (" +

@@ -73,7 +73,7 @@ struct BodyDiagnosis {
   int num_suggestions = 0;
   int train_pairs = 0, validation_pairs = 0;
   int folds = 0;                  ///< cross-validation blocks (0: a held-out log)
-  Eigen::VectorXd residual_tau;   ///< per wrench component, of the model's held-out residual
+  Eigen::VectorXd residual_tau;   ///< per wrench component, of the model's held-out residual (JSON)
   double seconds = 0.0;
 };
 

@@ -13,9 +13,11 @@
 /// 2. Held-out significance. On the held-out rows (which no fit sees), the fall of the squared
 ///    error of channel c, in units of that channel's residual variance, is
 ///      z_c = N (1 - rms_c(with)^2 / rms_c(without)^2) / tau_c,
-///    N the held-out samples and tau_c the integrated autocorrelation time of the model's held-out
-///    residual on channel c (1 + 2 sum of its autocorrelations while positive: the number of
-///    samples that carry one independent residual). z = sum_c z_c is the log-likelihood gain of
+///    N the held-out samples and tau_c the integrated autocorrelation time of the noise on channel c
+///    (1 + 2 sum of its autocorrelations while positive: the number of samples that carry one
+///    independent residual), measured on a residual the missing effect does not colour: for robots
+///    that of the widest model (every candidate, linear least squares), for a single body that of
+///    the candidate's own cross-validated prediction. z = sum_c z_c is the log-likelihood gain of
 ///    the candidate on data it was not fitted to, counted in independent samples. For a candidate
 ///    the data do not need, z is O(1) and negative on average (a coefficient fitted to noise
 ///    raises the held-out error). A candidate is significant when z >= (p + 1) ln(N C) and it
@@ -37,13 +39,16 @@
 ///    log(factor) - log(1 + t) (the factor counted beyond the estimate's own uncertainty, so a
 ///    link bent only by noise has none); the model's implausibility B is the sum over links. A
 ///    candidate restores a share (B_without - B_with) / B_without of it (with B_without = 0:
-///    -B_with / log(1 + t), negative if it bends links). With B_without > 0,
+///    -B_with / log(1 + t), negative if it bends links). A link whose plausibility cannot be
+///    measured (a body at the edge of the map's range) counts kUnmeasurableExcess. Route 3 needs
+///    B_without >= kMinExcess: links less than 1 % past the tolerance (beyond their 2-sigma
+///    margins) are no evidence. With B_without > 0,
 ///    a candidate that restores at least half while not raising the held-out error by min_explained
 ///    or more is a missing effect: the data are explained as well, by believable bodies. This is the
 ///    prior of eq. 14 used as evidence, with the tolerance (not the regularizer's weight, which only
 ///    breaks ties the data leave open) as its scale.
 ///
-/// Routes 2 and 3 do not suggest a candidate that bends the links further (B rising by more than
+/// No route but 1 suggests a candidate that bends the links further (B rising by more than
 /// kMaxBend log(1 + t)): its small held-out gain may come from the bending. Route 1 may: a large,
 /// held-out gain is the effect's own (Coulomb friction on a wrist, with links already far from a
 /// wrong URDF, can move them further while explaining a third of the error).
@@ -79,6 +84,10 @@ namespace inertial {
 /// See the file comment. Candidates that raise the links' implausibility by more than this share
 /// of the tolerance's log are not suggested.
 inline constexpr double kMaxBend = 0.1;
+/// The smallest implausibility route 3 acts on: log(1.01), 1 % past the tolerance.
+inline constexpr double kMinExcess = 0.00995;
+/// The excess counted for a link whose plausibility cannot be measured (log-factor units: e^100).
+inline constexpr double kUnmeasurableExcess = 100.0;
 /// The smallest held-out share a significant candidate must remove (route 2): a quarter of the
 /// default min_explained; an offset the links absorb removes about 1-2 % of its joint's.
 inline constexpr double kMinSignificantShare = 0.005;
@@ -106,8 +115,10 @@ struct EvidenceRules {
 
 struct CandidateEvidence {
   double explained = 0.0;     ///< held-out mean-square share removed (explained_error.hpp)
+  bool size_conditions = false;  ///< explained_error.hpp's three conditions hold (route 1 also needs z)
   double significance = 0.0;  ///< z (see the file comment)
   double threshold = 0.0;     ///< (p + 1) ln(N C)
+  double size_bar = 0.0;      ///< the z route 1 needs: 0 (common), p ln(N C) (ordinary), the threshold (rare)
   double restored = 0.0;      ///< share of the links' implausibility removed
   double score = 0.0;         ///< within its group (see Ranking)
   bool by_size = false, by_significance = false, by_plausibility = false;

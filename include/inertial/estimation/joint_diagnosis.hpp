@@ -8,8 +8,9 @@
 /// of the held-out mean-square error it removes, by the significance of that fall counted in
 /// independent residual samples, and by how much more believable it leaves the links
 /// (plausibility.hpp: each link against its URDF, outside the prior tolerance). Candidates are
-/// ranked by their score (explained + restored plausibility, near-ties to the simpler effect);
-/// those some evidence supports are suggestions, best first. A suggestion that adds nothing to the
+/// ranked (candidate_evidence.hpp) by the held-out share they remove where the held-out data
+/// support them, else by the plausibility they restore, near-ties to the simpler effect; those
+/// some evidence supports are suggestions, best first. A suggestion that adds nothing to the
 /// top one (refitted together, the pair is not supported over the top one alone) is marked as an
 /// alternative to it and not suggested: both explain the same residual or the same bent link.
 ///
@@ -18,15 +19,18 @@
 /// Links and payloads: a payload rigidly fixed to a link is the same, to the data, as a change of
 /// that link's inertia. With free links (the default), a link whose identified body departs from
 /// its URDF by more than the prior tolerance is tested as `payload@link`: the link held at its URDF
-/// and a payload body fitted on it (mass, COM and inertia). With hold_links every link is held at
-/// its URDF and a payload is tested on every link.
+/// and a payload body fitted on it (mass, COM and inertia). A payload in the model's own effects
+/// holds its link the same way (link and payload would otherwise share the link's regressor
+/// columns). With hold_links every link is held at its URDF and a payload is tested on every link.
 ///
 /// Repeats: when the held-out data retrace the training trajectory (trajectory_overlap.hpp), a note
 /// says that they cannot reveal overfitting.
 ///
 /// Cost: the data enter once, through A^T A of a model holding every candidate (training) and
-/// per-joint A^T A (validation); each candidate then costs one fit on those statistics, warm-started
-/// from the model's own fit.
+/// per-joint A^T A (validation), plus one pass over the held-out samples for the noise's correlation
+/// time; each candidate then costs one fit on those statistics, warm-started from the model's own
+/// fit, and, where some link departs beyond the tolerance, one uncertainty decomposition (P x P);
+/// each further suggestion one more fit together with the top one.
 #pragma once
 
 #include <functional>
@@ -120,7 +124,7 @@ struct JointDiagnosis {
 };
 
 /// @param make the model factory; @param effects the model's effects; @param payload_links links
-/// that may carry a payload (tested with options.hold_links only).
+/// that may carry a payload (every one with options.hold_links; with free links those the fit bends).
 /// @throws std::invalid_argument on bad effects or samples that do not match the model.
 JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
                                   const std::vector<std::string>& payload_links, const JointSamples& train,
