@@ -14,6 +14,7 @@
 #include "inertial/io/joint_csv.hpp"
 #include "inertial/model/rigid_body_simulation.hpp"
 #include "io/urdf_text.hpp"
+#include "simulated_body.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -251,28 +252,11 @@ TEST(ValidateCli, ReportJsonAndPredictionsFollowTheContracts) {
 // Single-body data: the true body validates at the noise floor, a wrong one does not, and a
 // velocity bias the model states removes what it explains.
 TEST(ValidateCli, SingleBodyDataAgainstABody) {
-  const InertialParams body = InertialParams::FromMassComInertia(
-      0.7, Vector3(0.1, -0.2, 0.05), (Matrix3() << 0.3, 0.02, -0.01, 0.02, 0.25, 0.03, -0.01, 0.03, 0.4).finished());
-  std::vector<double> times;
-  for (int i = 0; i <= 4000; ++i) times.push_back(i / 100.0);
-  auto wrench = [](double t) {
-    Vector6 w;
-    for (int k = 0; k < 6; ++k) w[k] = std::sin(t + k * M_PI / 3);
-    return w;
-  };
-  const SimulationResult sim = SimulateRigidBody(body, Vector6::Zero(), wrench, times);
-  ASSERT_TRUE(sim.ok);
-  testing::Rng rng(5);
-  BodyLog log;
-  for (size_t i = 0; i < times.size(); ++i) {
-    TwistWrenchSample s;
-    s.t = times[i];
-    s.twist = sim.twists[i];
-    s.twist[0] += 0.1;  // a gyro bias of 0.1 rad/s on wx
-    s.wrench = wrench(times[i]);
-    for (int k = 0; k < 6; ++k) s.wrench[k] += rng.Normal(0.01);
-    log.samples.push_back(s);
-  }
+  const InertialParams body = testing::TestFreeBody();
+  const BodyLog log = testing::SimulateFreeBody(body, 100, 40, 5, [](TwistWrenchSample* s, testing::Rng* rng) {
+    s->twist[0] += 0.1;  // a gyro bias of 0.1 rad/s on wx
+    for (int k = 0; k < 6; ++k) s->wrench[k] += rng->Normal(0.01);
+  });
   const fs::path csv = testing::UniqueTempPath("body.csv");
   WriteBodyCsv(csv.string(), log);
   std::string pi;

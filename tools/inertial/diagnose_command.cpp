@@ -35,9 +35,9 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
                   "--body without --validate or --holdout: judge by blocked K-fold cross-validation, 2 to 50 "
                   "(default 5; short logs such as the paper's 63 samples)");
   sub->add_option("--prior-tolerance", c->prior_tolerance,
-                  "robots: a link is believable within a factor 1 + T of its URDF in mass, COM shift (relative to "
-                  "its size) and inertia; links the fit bends beyond it are tested for a payload and reported "
-                  "(default 0.75: a CAD model's ordinary error stays inside)");
+                  "robots: a link is believable within a factor 1 + T of its URDF in mass, first moment about "
+                  "its URDF COM (relative to its mass times its size) and inertia; links the fit bends beyond it "
+                  "are tested for a payload and reported (default 0.75: a CAD model's ordinary error stays inside)");
   sub->add_option("--effects", c->effects,
                   "effects in the model (robots: syntax of identify --effects; --body: force_bias,moment_bias,"
                   "velocity_bias,gravity)");
