@@ -210,8 +210,8 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
     for (int i = 0; i < static_cast<int>(values.size()); ++i) {
       const int p = position[t.first_parameter + i];
       const double sd = std::sqrt(std::max(0.0, C_free(p, p)));
-      // Exponential coefficients (viscous, coulomb, armature, spring k): d(e^s)/ds = e^s.
-      const bool exponential = t.kind != EffectKind::kOffset && i == 0;
+      // Exponential coefficients (every one but an offset and a spring's q0): d(e^s)/ds = e^s.
+      const bool exponential = t.kind != EffectKind::kOffset && (i == 0 || t.kind != EffectKind::kSpring);
       stds[i] = undetermined_parameter[p] ? kInfinity : exponential ? values[i] * sd : sd;
     }
     u.effects.push_back(std::move(stds));

@@ -4,12 +4,14 @@
 
 #include "inertial/estimation/explained_error.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/friction_shape.hpp"
 #include "inertial/estimation/trajectory_overlap.hpp"
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
 #include <chrono>
+#include <limits>
+#include <map>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -64,8 +66,10 @@ std::vector<bool> FrozenBodies(const RobotDynamics& model, bool hold_links, cons
   return frozen;
 }
 
+// A candidate's parameters fitted to the data: its coefficients and, for the friction shapes, the
+// shape fitted before it (friction_shape.hpp).
 int CandidateParameters(EffectKind kind) {
-  return kind == EffectKind::kPayload ? 10 : (kind == EffectKind::kSpring ? 2 : 1);
+  return kind == EffectKind::kPayload ? 10 : NumEffectValues(kind) + FrictionShapeParameters(kind);
 }
 
 
@@ -211,22 +215,128 @@ namespace {
 // IterateJointDiagnosis computes it once for all its steps (each step's models are sub-models of
 // the first step's catalog).
 struct Prepared {
+  // The friction shapes of the candidates, per (kind, joint), fitted once (FitFrictionShapes).
+  std::map<std::pair<EffectKind, std::string>, FrictionShape> shapes;
+  std::map<std::string, double> shape_variance;  // per joint: the residual's variance left by the best shape
+  bool shapes_fitted = false;
   std::optional<RobotDynamics> catalog;
   std::unordered_map<std::string, int> index;
-  JointNormalEquations train_eq;
+  JointNormalEquations train_eq;                     // the sum of train_jointwise
+  std::vector<JointNormalEquations> train_jointwise;  // per joint: the training RMS without a data pass
   std::vector<JointNormalEquations> validation_eq;
   Eigen::VectorXd residual_tau;
   double retraced = 0.0;
 };
 
-Prepared Prepare(const RobotModelFactory& make, const std::vector<EffectSpec>& catalog_effects,
-                 const JointSamples& train, const JointSamples& validation) {
-  Prepared p;
+// The residual of a model holding the links (free, linear least squares), the model's effects and
+// viscous friction and an offset on every joint, on at most kShapeSamples training samples evenly
+// spaced (a shape is three numbers at most; the levels are fitted later on every sample); then the
+// shape of every friction kind asked for, per joint (friction_shape.hpp).
+void FitFrictionShapes(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                       const std::vector<EffectKind>& kinds, const JointSamples& train, Prepared* p) {
+  constexpr int kShapeSamples = 4000;
+  p->shapes_fitted = true;
+  std::vector<EffectKind> shaped;
+  for (EffectKind k : kinds) {
+    if (FrictionShapeParameters(k) > 0) shaped.push_back(k);
+  }
+  if (shaped.empty()) return;
+  const RobotDynamics base = make(effects);
+  std::set<std::pair<EffectKind, std::string>> present;
+  for (const EffectTerm& t : base.effects()) present.insert({t.kind, t.joint});
+  std::vector<EffectSpec> with = effects;
+  for (const std::string& joint : base.dof_names()) {
+    for (EffectKind k : {EffectKind::kViscous, EffectKind::kOffset}) {
+      if (present.count({k, joint}) > 0) continue;
+      EffectSpec s;
+      s.kind = k;
+      s.target = joint;
+      s.text = std::string(ToString(k)) + "@" + joint;
+      with.push_back(s);
+    }
+  }
+  const RobotDynamics model = make(with);
+  const int stride = std::max(1, (train.size() + kShapeSamples - 1) / kShapeSamples);
+  const int N = (train.size() + stride - 1) / stride, n = model.num_dofs();
+  JointSamples sub;
+  sub.joint_names = train.joint_names;
+  sub.t.resize(N);
+  sub.q.resize(N, n);
+  sub.qd.resize(N, n);
+  sub.qdd.resize(N, n);
+  sub.tau.resize(N, n);
+  for (int i = 0; i < N; ++i) {
+    sub.t[i] = train.t[i * stride];
+    sub.q.row(i) = train.q.row(i * stride);
+    sub.qd.row(i) = train.qd.row(i * stride);
+    sub.qdd.row(i) = train.qdd.row(i * stride);
+    sub.tau.row(i) = train.tau.row(i * stride);
+  }
+  const JointNormalEquations eq = AccumulateNormalEquations(model, sub);
+  Eigen::MatrixXd H = eq.AtA;
+  H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
+  const Eigen::VectorXd w = H.ldlt().solve(eq.Atb);
+  if (!w.allFinite()) return;
+  Eigen::MatrixXd residual(N, n);
+  Eigen::MatrixXd A(n, model.num_features());
+  TreeWorkspace workspace = model.MakeWorkspace();
+  for (int i = 0; i < N; ++i) {
+    model.Features(sub.q.row(i).transpose(), sub.qd.row(i).transpose(), sub.qdd.row(i).transpose(), &workspace, A);
+    residual.row(i) = sub.tau.row(i) - (A * w).transpose();
+  }
+  for (int j = 0; j < n; ++j) {
+    const std::string& joint = model.dof_names()[j];
+    double best = 0.0;
+    for (EffectKind k : shaped) {
+      if (present.count({k, joint}) > 0) continue;
+      const FrictionShape shape = FitFrictionShape(k, joint, sub.qd.col(j), residual.col(j));
+      p->shapes[{k, joint}] = shape;
+      best = std::max(best, shape.gain);
+    }
+    p->shape_variance[joint] = std::max(0.0, residual.col(j).squaredNorm() - best) / N;
+  }
+}
+
+// A friction candidate of a shape: coulomb with its fitted scale (the default where no shape helps);
+// the asymmetric and sigmoid forms only where their shape explains more of the residual than the
+// symmetric Coulomb step does by at least 2 residual variances per extra parameter (Akaike's
+// penalty: a screen that keeps any shape the judgement could accept and drops the joints whose
+// friction is symmetric, each of which would cost a fit).
+std::optional<EffectSpec> ShapedCandidate(const Prepared& p, EffectKind kind, const std::string& joint,
+                                          const EffectSpec& fallback) {
+  const auto it = p.shapes.find({kind, joint});
+  if (it == p.shapes.end() || !(it->second.gain > 0.0)) {
+    if (kind == EffectKind::kCoulomb) return fallback;
+    return std::nullopt;
+  }
+  if (kind != EffectKind::kCoulomb) {
+    const auto coulomb = p.shapes.find({EffectKind::kCoulomb, joint});
+    const double symmetric = coulomb == p.shapes.end() ? 0.0 : coulomb->second.gain;
+    const auto variance = p.shape_variance.find(joint);
+    const int extra = CandidateParameters(kind) - CandidateParameters(EffectKind::kCoulomb);
+    if (variance == p.shape_variance.end() || it->second.gain - symmetric < 2.0 * extra * variance->second) {
+      return std::nullopt;
+    }
+  }
+  EffectSpec s = it->second.spec;
+  s.text = std::string(ToString(kind)) + "@" + joint;
+  return s;
+}
+
+void PrepareStatistics(const RobotModelFactory& make, const std::vector<EffectSpec>& catalog_effects,
+                       const JointSamples& train, const JointSamples& validation, Prepared* out) {
+  Prepared& p = *out;
   p.catalog.emplace(make(catalog_effects));
   const RobotDynamics& catalog = *p.catalog;
   const std::vector<std::string> names = catalog.FeatureNames();
   for (int f = 0; f < static_cast<int>(names.size()); ++f) p.index[names[f]] = f;
-  p.train_eq = AccumulateNormalEquations(catalog, train);
+  p.train_jointwise = AccumulateJointwiseNormalEquations(catalog, train);
+  p.train_eq = p.train_jointwise[0];
+  for (size_t k = 1; k < p.train_jointwise.size(); ++k) {
+    p.train_eq.AtA += p.train_jointwise[k].AtA;
+    p.train_eq.Atb += p.train_jointwise[k].Atb;
+    p.train_eq.btb += p.train_jointwise[k].btb;
+  }
   p.validation_eq = AccumulateJointwiseNormalEquations(catalog, validation);
   // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on what
   // the most complete model leaves (every candidate, links free, linear least squares on the
@@ -246,7 +356,6 @@ Prepared Prepare(const RobotModelFactory& make, const std::vector<EffectSpec>& c
   p.residual_tau.resize(n);
   for (int j = 0; j < n; ++j) p.residual_tau[j] = IntegratedAutocorrelationTime(residual.col(j));
   p.retraced = RetracedShare(train, validation);
-  return p;
 }
 
 JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
@@ -275,6 +384,9 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   for (const EffectSpec& s : effects) {
     if (s.kind == EffectKind::kPayload) payloads_present.insert(s.target);
   }
+  Prepared local;
+  Prepared& data = prepared != nullptr ? *prepared : local;
+  if (!data.shapes_fitted) FitFrictionShapes(make, effects, options.joint_kinds, train, &data);
   std::vector<EffectSpec> candidates;
   for (const std::string& joint : base.dof_names()) {
     for (EffectKind kind : options.joint_kinds) {
@@ -284,6 +396,11 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
       s.target = joint;
       s.velocity_scale = options.coulomb_velocity_scale;
       s.text = std::string(ToString(kind)) + "@" + joint;
+      if (FrictionShapeParameters(kind) > 0) {
+        const std::optional<EffectSpec> shaped = ShapedCandidate(data, kind, joint, s);
+        if (!shaped) continue;
+        s = *shaped;
+      }
       candidates.push_back(s);
     }
   }
@@ -320,13 +437,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   for (const EffectSpec& s : candidates) {
     if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
   }
-  Prepared local;
-  if (prepared == nullptr || !prepared->catalog) {
-    local = Prepare(make, catalog_effects, train, validation);
-    if (prepared != nullptr) *prepared = local;
-  }
-  const Prepared& data = prepared != nullptr ? *prepared : local;
-  const RobotDynamics& catalog = *data.catalog;
+  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, &data);
   auto features_of = [&](const RobotDynamics& m) {
     std::vector<int> index;
     for (const std::string& name : m.FeatureNames()) {
@@ -383,7 +494,9 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
     std::vector<JointNormalEquations> v;
     for (const JointNormalEquations& e : validation_eq) v.push_back(Restrict(e, features_of(links)));
     out.prior_validation = ErrorsFromNormalEquations(v, links.Coefficients(Eigen::VectorXd::Zero(links.num_parameters())));
-    out.fit_train = CompareTorques(PredictJointTorques(base, out.fit.x, train), train.tau);
+    std::vector<JointNormalEquations> t;
+    for (const JointNormalEquations& e : data.train_jointwise) t.push_back(Restrict(e, features_of(base)));
+    out.fit_train = ErrorsFromNormalEquations(t, base.Coefficients(out.fit.x));
   }
   if (!std::isfinite(out.fit_validation.total_rms) || !std::isfinite(out.prior_validation.total_rms)) {
     throw std::invalid_argument("diagnosis: the model's torques are not finite numbers (check gravity, units and "
@@ -548,6 +661,7 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
     const CandidateResult& top = d.candidates[0];
     DiagnosisStep s;
     s.added = top.name;
+    s.item = EffectItem(top.spec);
     s.explained = top.explained;
     s.evidence = top.evidence;
     s.before = d.fit_validation;

@@ -136,8 +136,12 @@ Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const Joint
   for (const EffectTerm& t : model.effects()) {
     if (t.kind == EffectKind::kOffset) continue;
     const int k = t.first_feature - Fi;
-    const double natural = std::sqrt(data.btb / std::max(data.AtA(t.first_feature, t.first_feature), 1e-300));
-    c[k] = std::max(c[k], 1e-3 * natural);
+    const int non_negative = t.kind == EffectKind::kSpring ? 1 : t.size();  // a spring's k q0 is free
+    for (int i = 0; i < non_negative; ++i) {
+      const double natural =
+          std::sqrt(data.btb / std::max(data.AtA(t.first_feature + i, t.first_feature + i), 1e-300));
+      c[k + i] = std::max(c[k + i], 1e-3 * natural);
+    }
     if (t.kind == EffectKind::kSpring) c[k + 1] = std::clamp(c[k + 1], -1e3 * c[k], 1e3 * c[k]);  // |q0| <= 1e3
   }
   return model.ParametersFromEffectCoefficients(c, 1e-300);
@@ -146,7 +150,9 @@ Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const Joint
 Eigen::VectorXd PriorParametersWithoutEffects(const RobotDynamics& model) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
   for (const EffectTerm& t : model.effects()) {
-    if (t.kind != EffectKind::kOffset) x[t.first_parameter] = std::log(1e-300);
+    if (t.kind == EffectKind::kOffset) continue;
+    x[t.first_parameter] = std::log(1e-300);
+    if (t.kind == EffectKind::kAsymmetric) x[t.first_parameter + 1] = std::log(1e-300);
   }
   return x;
 }
@@ -178,7 +184,16 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
   result.x_initial = x0;
 
   const double gamma = options.prior_weight;
-  Eigen::MatrixXd J_w;
+  Eigen::MatrixXd J_w, AtA_J;
+  // J_w is block diagonal up to row placement (RobotDynamics::Coefficients): a 10 x 10 block per
+  // body at its tree body's features, a 1 x 1 (spring: 2 x 2) block per effect term. H = J_w^T A^T A
+  // J_w block by block costs 4 F P * 10 flops instead of the dense product's 2 F P (F + P).
+  struct Block {
+    int row, col, rows, cols;
+  };
+  std::vector<Block> blocks;
+  for (int e = 0; e < B; ++e) blocks.push_back({10 * model.bodies()[e].tree_body, 10 * e, 10, 10});
+  for (const EffectTerm& t : model.effects()) blocks.push_back({t.first_feature, t.first_parameter, t.size(), t.size()});
   Matrix10 J_r;
   // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b): data through A^T A only.
   auto problem = [&](const Eigen::VectorXd& x, double* cost, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
@@ -190,7 +205,16 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
     if (derivatives) {
       const Eigen::VectorXd grad_w = Hw - data.Atb;
       *g = J_w.transpose() * grad_w;
-      *H = J_w.transpose() * data.AtA * J_w;
+      AtA_J.resize(F, P);
+      for (const Block& b : blocks) {
+        AtA_J.middleCols(b.col, b.cols).noalias() =
+            data.AtA.middleCols(b.row, b.rows) * J_w.block(b.row, b.col, b.rows, b.cols);
+      }
+      H->resize(P, P);
+      for (const Block& b : blocks) {
+        H->middleRows(b.col, b.cols).noalias() =
+            J_w.block(b.row, b.col, b.rows, b.cols).transpose() * AtA_J.middleRows(b.row, b.rows);
+      }
       if (options.newton) {
         // The second-order term sum_k grad_w[k] d2 w_k / dx2 that Gauss-Newton drops. Without it,
         // the fit crawls along the curved valleys that unexcited directions of w make in theta
@@ -204,6 +228,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
           const int p = t.first_parameter, f = t.first_feature;
           if (t.kind == EffectKind::kOffset) continue;
           (*H)(p, p) += grad_w[f] * w[f];  // w = e^s: d2w/ds2 = w
+          if (t.kind == EffectKind::kAsymmetric) (*H)(p + 1, p + 1) += grad_w[f + 1] * w[f + 1];
           if (t.kind == EffectKind::kSpring) {  // w[f + 1] = e^s q0
             (*H)(p, p) += grad_w[f + 1] * w[f + 1];
             (*H)(p, p + 1) += grad_w[f + 1] * w[f];

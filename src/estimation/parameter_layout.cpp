@@ -45,6 +45,9 @@ ParameterLayout ParameterLayout::FromRobot(const RobotDynamics& model) {
                           : t.kind == EffectKind::kSpring ? ScalarMap::kSpring
                                                           : ScalarMap::kExponential;
     scalars.push_back(ScalarBlock{map, t.first_feature, t.first_parameter});
+    if (t.kind == EffectKind::kAsymmetric) {  // its second coefficient: e^s too
+      scalars.push_back(ScalarBlock{ScalarMap::kExponential, t.first_feature + 1, t.first_parameter + 1});
+    }
   }
   return ParameterLayout(model.num_features(), std::move(bodies), std::move(scalars));
 }

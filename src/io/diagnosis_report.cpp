@@ -337,7 +337,7 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   constexpr int kShownSuggestions = 8;
   for (int i = 0; i < std::min(d.num_suggestions, kShownSuggestions); ++i) {
     const CandidateResult& r = d.candidates[i];
-    out << "  " << i + 1 << ". " << r.name << " (score " << ScoreText(r.evidence) << "): " << Evidence(r.evidence)
+    out << "  " << i + 1 << ". " << EffectItem(r.spec) << " (score " << ScoreText(r.evidence) << "): " << Evidence(r.evidence)
         << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g")
         << " N m";
     const int k = DofIndex(model, r.joint);
@@ -366,10 +366,10 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
     out << "\nNext: add the top suggestion (--effects ";
     bool first = true;
     for (const EffectSpec& e : d.effects) {
-      out << (first ? "" : ",") << e.text;
+      out << (first ? "" : ",") << (e.inertia ? e.text : EffectItem(e));
       first = false;
     }
-    out << (first ? "" : ",") << d.candidates[0].name
+    out << (first ? "" : ",") << EffectItem(d.candidates[0].spec)
         << ") and run again: what it explained leaves the ranking, what remains is ranked anew.\n";
   }
   bool consistent = true;
@@ -409,6 +409,7 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
     if (!r.joint.empty()) s["joint"] = r.joint;
     if (!r.link.empty()) s["link"] = r.link;
     s["name"] = r.name;
+    s["item"] = EffectItem(r.spec);
     s["rms_validation_after"] = PerJointJson(model, r.validation.rms, r.validation.total_rms);
     s["explained"] = r.explained;
     s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r)
@@ -452,7 +453,7 @@ std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const Join
   if (path.empty()) out << "  none: nothing was suggested\n";
   for (size_t i = 0; i < path.size(); ++i) {
     const DiagnosisStep& s = path[i];
-    out << "  " << i + 1 << ". added " << s.added << " (" << Evidence(s.evidence) << ")\n"
+    out << "  " << i + 1 << ". added " << s.item << " (" << Evidence(s.evidence) << ")\n"
         << "     held-out RMS " << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms)
         << ") -> " << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n"
         << "     links' implausibility " << F(s.implausibility_before, "%.3g") << " -> "
@@ -469,6 +470,7 @@ nlohmann::json DiagnosisPathJson(const RobotDynamics& model, const std::vector<D
   nlohmann::json j = nlohmann::json::array();
   for (const DiagnosisStep& s : path) {
     j.push_back({{"added", s.added},
+                 {"item", s.item},
                  {"explained", s.explained},
                  {"significance", s.evidence.significance},
                  {"restored", s.evidence.restored},
@@ -514,9 +516,7 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
   if (d.num_suggestions > 0) {
     const CandidateResult& top = d.candidates[0];
     const int k = DofIndex(model, top.joint);
-    const EffectKind kind = top.spec.kind;
-    if (k >= 0 && !top.values.empty() &&
-        (kind == EffectKind::kCoulomb || kind == EffectKind::kViscous || kind == EffectKind::kOffset)) {
+    if (k >= 0 && !top.values.empty() && std::isfinite(VelocityEffectTorque(top.spec, top.values, 0.0))) {
       constexpr int kPoints = 201;
       const int n = model.num_dofs();
       p.effect_velocity = Eigen::MatrixXd::Zero(kPoints, n);
@@ -524,9 +524,7 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
       const double lo = c.validation->qd.col(k).minCoeff(), hi = c.validation->qd.col(k).maxCoeff();
       for (int i = 0; i < kPoints; ++i) {
         const double v = lo + (hi - lo) * i / (kPoints - 1);
-        const double effect = kind == EffectKind::kCoulomb  ? top.values[0] * std::tanh(v / top.spec.velocity_scale)
-                              : kind == EffectKind::kViscous ? top.values[0] * v
-                                                             : top.values[0];
+        const double effect = VelocityEffectTorque(top.spec, top.values, v);
         p.effect_velocity(i, k) = v;
         p.effect_residual(i, k) = -effect;
       }

@@ -52,6 +52,8 @@ std::vector<std::string> EffectValueNames(EffectKind kind) {
     case EffectKind::kOffset: return {"c"};
     case EffectKind::kArmature: return {"Ia"};
     case EffectKind::kSpring: return {"k", "q0"};
+    case EffectKind::kAsymmetric: return {"bp", "bn"};
+    case EffectKind::kSigmoid: return {"p1"};
     default: return {};
   }
 }
@@ -64,6 +66,8 @@ std::vector<std::string> EffectValueUnits(EffectKind kind) {
     case EffectKind::kOffset: return {"N m"};
     case EffectKind::kArmature: return {"kg m^2"};
     case EffectKind::kSpring: return {"N m/rad", "rad"};
+    case EffectKind::kAsymmetric: return {"N m", "N m"};
+    case EffectKind::kSigmoid: return {"N m"};
     default: return {};
   }
 }

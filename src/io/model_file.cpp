@@ -56,7 +56,14 @@ ModelSnapshot SnapshotOf(const OnlineJointEstimator& estimator) {
       throw std::invalid_argument("the linear RLS estimate of " + std::string(ToString(t.kind)) + "@" + t.joint +
                                   " is negative (" + std::to_string(c) + "): not a physical coefficient");
     }
-    if (t.kind == EffectKind::kSpring) {
+    if (t.kind == EffectKind::kAsymmetric && w[t.first_feature + 1] < 0) {
+      throw std::invalid_argument("the linear RLS estimate of asymmetric@" + t.joint +
+                                  " (negative direction) is negative (" + std::to_string(w[t.first_feature + 1]) +
+                                  "): not a physical coefficient");
+    }
+    if (t.kind == EffectKind::kAsymmetric) {
+      s.effect_values.push_back({c, w[t.first_feature + 1]});
+    } else if (t.kind == EffectKind::kSpring) {
       s.effect_values.push_back({c, c > 0 ? w[t.first_feature + 1] / c : 0.0});
     } else {
       s.effect_values.push_back({c});
@@ -76,6 +83,8 @@ std::vector<ModelEffect> EffectsOf(const RobotDynamics& model, const ModelSnapsh
     m.spec.kind = t.kind;
     m.spec.target = t.joint;
     m.spec.velocity_scale = t.velocity_scale;
+    m.spec.steepness = t.steepness;
+    m.spec.shift = t.shift;
     m.values = snapshot.effect_values[k];
     effects.push_back(m);
   }

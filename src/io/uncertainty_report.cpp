@@ -69,6 +69,7 @@ std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& 
     if (linear) {  // coefficients are w itself; a spring's q0 = w1 / w0 to first order
       const int f = t.first_feature;
       stds.push_back(std::sqrt(std::max(0.0, P(f, f))));
+      if (t.kind == EffectKind::kAsymmetric) stds.push_back(std::sqrt(std::max(0.0, P(f + 1, f + 1))));
       if (t.kind == EffectKind::kSpring) {
         const double k0 = x[f], kq = x[f + 1];
         Eigen::Vector2d g(-kq / (k0 * k0), 1.0 / k0);
@@ -80,6 +81,7 @@ std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& 
       const double sd = std::sqrt(std::max(0.0, P(p, p)));
       stds.push_back(t.kind == EffectKind::kOffset ? sd : v[0] * sd);  // b = e^s: db = b ds
       if (t.kind == EffectKind::kSpring) stds.push_back(std::sqrt(std::max(0.0, P(p + 1, p + 1))));
+      if (t.kind == EffectKind::kAsymmetric) stds.push_back(v[1] * std::sqrt(std::max(0.0, P(p + 1, p + 1))));
     }
     u.effects.push_back(stds);
   }

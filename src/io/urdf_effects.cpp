@@ -162,8 +162,7 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
     const std::string tag = e->Name();
     ModelEffect m;
     bool known = false;
-    for (EffectKind k : {EffectKind::kViscous, EffectKind::kCoulomb, EffectKind::kOffset, EffectKind::kArmature,
-                         EffectKind::kSpring, EffectKind::kPayload, EffectKind::kRotor}) {
+    for (EffectKind k : AllEffectKinds()) {
       if (tag == ToString(k)) {
         m.spec.kind = k;
         known = true;
@@ -171,12 +170,15 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
     }
     const std::string where = source + ": <" + std::string(kEffectsElement) + ">: " + ElementText(*e);
     if (!known) {
-      throw UrdfError(where + " is not an effect (viscous, coulomb, offset, armature, spring, rotor, payload)");
+      throw UrdfError(where +
+                      " is not an effect (viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, rotor, payload)");
     }
     // Nothing unknown is silently ignored: every attribute and child must be the kind's own.
     static const std::map<EffectKind, std::set<std::string>> kAttributes = {
         {EffectKind::kViscous, {"joint"}},
         {EffectKind::kCoulomb, {"joint", "velocity_scale"}},
+        {EffectKind::kAsymmetric, {"joint", "velocity_scale", "positive", "negative"}},
+        {EffectKind::kSigmoid, {"joint", "amplitude", "steepness", "shift"}},
         {EffectKind::kOffset, {"joint", "torque"}},
         {EffectKind::kArmature, {"joint", "inertia"}},
         {EffectKind::kSpring, {"joint", "stiffness", "rest_position"}},
@@ -227,6 +229,17 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
           if (!(m.spec.velocity_scale > 0)) throw UrdfError(where + ": attribute 'velocity_scale' must be > 0");
         }
         m.values = {m.spec.kind == EffectKind::kViscous ? dyn->second.first : dyn->second.second};
+        break;
+      case EffectKind::kAsymmetric:
+        m.spec.velocity_scale = Attribute(*e, "velocity_scale", where);
+        if (!(m.spec.velocity_scale > 0)) throw UrdfError(where + ": attribute 'velocity_scale' must be > 0");
+        m.values = {non_negative("positive"), non_negative("negative")};
+        break;
+      case EffectKind::kSigmoid:
+        m.spec.steepness = Attribute(*e, "steepness", where);
+        if (!(m.spec.steepness > 0)) throw UrdfError(where + ": attribute 'steepness' must be > 0");
+        m.spec.shift = Attribute(*e, "shift", where);
+        m.values = {non_negative("amplitude")};
         break;
       case EffectKind::kOffset: m.values = {Attribute(*e, "torque", where)}; break;
       case EffectKind::kArmature: m.values = {non_negative("inertia")}; break;
@@ -324,6 +337,16 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
     switch (m.spec.kind) {
       case EffectKind::kViscous: break;
       case EffectKind::kCoulomb: e->SetAttribute("velocity_scale", XmlNumber(m.spec.velocity_scale).c_str()); break;
+      case EffectKind::kAsymmetric:
+        e->SetAttribute("velocity_scale", XmlNumber(m.spec.velocity_scale).c_str());
+        e->SetAttribute("positive", XmlNumber(m.values.at(0)).c_str());
+        e->SetAttribute("negative", XmlNumber(m.values.at(1)).c_str());
+        break;
+      case EffectKind::kSigmoid:
+        e->SetAttribute("amplitude", XmlNumber(m.values.at(0)).c_str());
+        e->SetAttribute("steepness", XmlNumber(m.spec.steepness).c_str());
+        e->SetAttribute("shift", XmlNumber(m.spec.shift).c_str());
+        break;
       case EffectKind::kOffset: e->SetAttribute("torque", XmlNumber(m.values.at(0)).c_str()); break;
       case EffectKind::kArmature: e->SetAttribute("inertia", XmlNumber(m.values.at(0)).c_str()); break;
       case EffectKind::kSpring:

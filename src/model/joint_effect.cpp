@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -33,7 +34,7 @@ double PositiveNumber(const std::string& item, const std::string& key, const std
   if (value.empty() || end != value.c_str() + value.size() || errno != 0 || !std::isfinite(x)) {
     throw std::invalid_argument("effect '" + item + "': " + key + "='" + value + "' is not a number");
   }
-  if (key != "gear" && x <= 0.0) {
+  if (key != "gear" && key != "shift" && x <= 0.0) {
     throw std::invalid_argument("effect '" + item + "': " + key + " must be positive, got " + value);
   }
   if (key == "gear" && x == 0.0) throw std::invalid_argument("effect '" + item + "': gear must be non-zero");
@@ -51,16 +52,63 @@ std::string_view ToString(EffectKind kind) {
     case EffectKind::kSpring: return "spring";
     case EffectKind::kPayload: return "payload";
     case EffectKind::kRotor: return "rotor";
+    case EffectKind::kAsymmetric: return "asymmetric";
+    case EffectKind::kSigmoid: return "sigmoid";
   }
   return "unknown";
 }
 
 int NumEffectValues(EffectKind kind) {
   if (!IsJointEffect(kind)) return 0;
-  return kind == EffectKind::kSpring ? 2 : 1;
+  return kind == EffectKind::kSpring || kind == EffectKind::kAsymmetric ? 2 : 1;
+}
+
+const std::vector<EffectKind>& AllEffectKinds() {
+  static const std::vector<EffectKind> kinds{EffectKind::kViscous, EffectKind::kCoulomb,    EffectKind::kOffset,
+                                             EffectKind::kArmature, EffectKind::kSpring,    EffectKind::kPayload,
+                                             EffectKind::kRotor,    EffectKind::kAsymmetric, EffectKind::kSigmoid};
+  return kinds;
 }
 
 bool IsJointEffect(EffectKind kind) { return kind != EffectKind::kPayload && kind != EffectKind::kRotor; }
+
+std::string EffectItem(const EffectSpec& spec) {
+  auto number = [](double x) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.4g", x);
+    return std::string(buffer);
+  };
+  std::string item = std::string(ToString(spec.kind)) + (spec.target.empty() ? "" : "@" + spec.target);
+  if (spec.kind == EffectKind::kCoulomb || spec.kind == EffectKind::kAsymmetric) {
+    item += ":scale=" + number(spec.velocity_scale);
+  }
+  if (spec.kind == EffectKind::kSigmoid) item += ":steepness=" + number(spec.steepness) + ":shift=" + number(spec.shift);
+  if (spec.kind == EffectKind::kRotor) item += ":gear=" + number(spec.gear_ratio);
+  if (spec.mass > 0) item += ":mass=" + number(spec.mass);
+  if (spec.radius > 0) item += ":radius=" + number(spec.radius);
+  if (spec.length > 0) item += ":length=" + number(spec.length);
+  return item;
+}
+
+double SigmoidFriction(double qd, double steepness, double shift) {
+  // S(x) = (1 + tanh(x / 2)) / 2: no exponential to overflow.
+  return 0.5 * (std::tanh(0.5 * steepness * (qd + shift)) - std::tanh(0.5 * steepness * shift));
+}
+
+double VelocityEffectTorque(const EffectSpec& spec, const std::vector<double>& values, double qd) {
+  if (static_cast<int>(values.size()) != NumEffectValues(spec.kind)) return std::nan("");
+  switch (spec.kind) {
+    case EffectKind::kViscous: return values[0] * qd;
+    case EffectKind::kCoulomb: return values[0] * std::tanh(qd / spec.velocity_scale);
+    case EffectKind::kAsymmetric: {
+      const double s = std::tanh(qd / spec.velocity_scale);
+      return s >= 0.0 ? values[0] * s : values[1] * s;
+    }
+    case EffectKind::kSigmoid: return values[0] * SigmoidFriction(qd, spec.steepness, spec.shift);
+    case EffectKind::kOffset: return values[0];
+    default: return std::nan("");
+  }
+}
 
 std::vector<EffectSpec> ParseEffectList(std::string_view text) {
   std::vector<EffectSpec> effects;
@@ -79,8 +127,7 @@ std::vector<EffectSpec> ParseEffectList(std::string_view text) {
       if (e.target.empty()) throw std::invalid_argument("effect '" + item + "': empty target after '@'");
     }
     bool known = false;
-    for (EffectKind k : {EffectKind::kViscous, EffectKind::kCoulomb, EffectKind::kOffset, EffectKind::kArmature,
-                         EffectKind::kSpring, EffectKind::kPayload, EffectKind::kRotor}) {
+    for (EffectKind k : AllEffectKinds()) {
       if (kind == ToString(k)) {
         e.kind = k;
         known = true;
@@ -88,7 +135,7 @@ std::vector<EffectSpec> ParseEffectList(std::string_view text) {
     }
     if (!known) {
       throw std::invalid_argument("effect '" + item + "': unknown kind '" + kind +
-                                  "' (known: viscous, coulomb, offset, armature, spring, payload, rotor)");
+                                  "' (known: viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, payload, rotor)");
     }
     if (!IsJointEffect(e.kind) && e.target.empty()) {
       throw std::invalid_argument("effect '" + item + "': " + kind + " needs a target, e.g. " + kind +
@@ -101,7 +148,8 @@ std::vector<EffectSpec> ParseEffectList(std::string_view text) {
       }
       const std::string key = Trim(fields[f].substr(0, eq));
       const std::string value = Trim(fields[f].substr(eq + 1));
-      const bool ok = (e.kind == EffectKind::kCoulomb && key == "scale") ||
+      const bool ok = ((e.kind == EffectKind::kCoulomb || e.kind == EffectKind::kAsymmetric) && key == "scale") ||
+                      (e.kind == EffectKind::kSigmoid && (key == "steepness" || key == "shift")) ||
                       (e.kind == EffectKind::kRotor && (key == "gear" || key == "mass" || key == "radius" || key == "length")) ||
                       (e.kind == EffectKind::kPayload && (key == "mass" || key == "radius"));
       if (!ok) throw std::invalid_argument("effect '" + item + "': unknown option '" + key + "' for " + kind);
@@ -111,6 +159,8 @@ std::vector<EffectSpec> ParseEffectList(std::string_view text) {
       if (key == "mass") e.mass = x;
       if (key == "radius") e.radius = x;
       if (key == "length") e.length = x;
+      if (key == "steepness") e.steepness = x;
+      if (key == "shift") e.shift = x;
     }
     if (e.kind == EffectKind::kRotor && e.gear_ratio == 0.0) {
       throw std::invalid_argument("effect '" + item + "': a rotor needs its gear ratio, e.g. rotor@" + e.target +

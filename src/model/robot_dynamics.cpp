@@ -20,8 +20,10 @@ Matrix3 RotationZTo(const Vector3& axis) {
   return Eigen::Quaterniond::FromTwoVectors(Vector3::UnitZ(), axis).toRotationMatrix();
 }
 
+// Every coefficient of these kinds is e^s (a spring's first only).
 bool NonNegative(EffectKind kind) {
-  return kind == EffectKind::kViscous || kind == EffectKind::kCoulomb || kind == EffectKind::kArmature;
+  return kind == EffectKind::kViscous || kind == EffectKind::kCoulomb || kind == EffectKind::kArmature ||
+         kind == EffectKind::kAsymmetric || kind == EffectKind::kSigmoid;
 }
 
 }  // namespace
@@ -111,6 +113,8 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
       t.dof = j;
       t.joint = dof_names_[j];
       t.velocity_scale = e.velocity_scale;
+      t.steepness = e.steepness;
+      t.shift = e.shift;
       t.first_parameter = num_parameters_;
       t.first_feature = num_features_;
       num_parameters_ += t.size();
@@ -133,6 +137,8 @@ std::vector<std::string> RobotDynamics::ParameterNames() const {
       case EffectKind::kOffset: names.push_back(prefix + "c"); break;
       case EffectKind::kArmature: names.push_back(prefix + "log_Ia"); break;
       case EffectKind::kSpring: names.push_back(prefix + "log_k"); names.push_back(prefix + "q0"); break;
+      case EffectKind::kAsymmetric: names.push_back(prefix + "log_bp"); names.push_back(prefix + "log_bn"); break;
+      case EffectKind::kSigmoid: names.push_back(prefix + "log_p1"); break;
       default: break;
     }
   }
@@ -152,6 +158,8 @@ std::vector<std::string> RobotDynamics::FeatureNames() const {
       case EffectKind::kOffset: names.push_back(prefix + "c"); break;
       case EffectKind::kArmature: names.push_back(prefix + "Ia"); break;
       case EffectKind::kSpring: names.push_back(prefix + "k"); names.push_back(prefix + "k_q0"); break;
+      case EffectKind::kAsymmetric: names.push_back(prefix + "bp"); names.push_back(prefix + "bn"); break;
+      case EffectKind::kSigmoid: names.push_back(prefix + "p1"); break;
       default: break;
     }
   }
@@ -184,6 +192,15 @@ void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd
       case EffectKind::kOffset: A(j, c) = 1.0; break;
       case EffectKind::kArmature: A(j, c) = qdd[j]; break;
       case EffectKind::kSpring: A(j, c) = q[j]; A(j, c + 1) = -1.0; break;
+      case EffectKind::kAsymmetric: {
+        const double s = std::tanh(qd[j] / t.velocity_scale);
+        A(j, c) = std::max(s, 0.0);
+        A(j, c + 1) = std::min(s, 0.0);
+        break;
+      }
+      case EffectKind::kSigmoid:
+        A(j, c) = SigmoidFriction(qd[j], t.steepness, t.shift);
+        break;
       default: break;
     }
   }
@@ -218,8 +235,10 @@ Eigen::VectorXd RobotDynamics::Coefficients(const Eigen::VectorXd& x, Eigen::Mat
         (*J_w_x)(f + 1, p + 1) = k;
       }
     } else {
-      w[f] = std::exp(x[p]);
-      if (J_w_x != nullptr) (*J_w_x)(f, p) = w[f];
+      for (int k = 0; k < t.size(); ++k) {  // every coefficient e^s
+        w[f + k] = std::exp(x[p + k]);
+        if (J_w_x != nullptr) (*J_w_x)(f + k, p + k) = w[f + k];
+      }
     }
   }
   return w;
@@ -247,7 +266,7 @@ Eigen::VectorXd RobotDynamics::ParametersFromEffectCoefficients(const Eigen::Vec
       x[p] = std::log(k);
       x[p + 1] = c[f + 1] / k;
     } else if (NonNegative(t.kind)) {
-      x[p] = std::log(std::max(c[f], floor));
+      for (int k = 0; k < t.size(); ++k) x[p + k] = std::log(std::max(c[f + k], floor));
     }
   }
   return x;
@@ -275,9 +294,16 @@ Eigen::VectorXd RobotDynamics::ParametersFromEffectValues(const std::vector<Mode
       x[p] = v[0];
       continue;
     }
-    if (v[0] < 0.0) throw std::invalid_argument("robot dynamics: the coefficient of " + name + " must be >= 0");
-    x[p] = std::log(std::max(v[0], 1e-300));
-    if (t.kind == EffectKind::kSpring) x[p + 1] = v[1];
+    if (t.kind == EffectKind::kSpring) {
+      if (v[0] < 0.0) throw std::invalid_argument("robot dynamics: the stiffness of " + name + " must be >= 0");
+      x[p] = std::log(std::max(v[0], 1e-300));
+      x[p + 1] = v[1];
+      continue;
+    }
+    for (int k = 0; k < t.size(); ++k) {
+      if (v[k] < 0.0) throw std::invalid_argument("robot dynamics: the coefficients of " + name + " must be >= 0");
+      x[p + k] = std::log(std::max(v[k], 1e-300));
+    }
   }
   return x;
 }
@@ -294,6 +320,7 @@ std::vector<double> RobotDynamics::EffectValues(int k, const Eigen::VectorXd& x)
   const int p = t.first_parameter;
   if (t.kind == EffectKind::kOffset) return {x[p]};
   if (t.kind == EffectKind::kSpring) return {std::exp(x[p]), x[p + 1]};
+  if (t.kind == EffectKind::kAsymmetric) return {std::exp(x[p]), std::exp(x[p + 1])};
   return {std::exp(x[p])};
 }
 

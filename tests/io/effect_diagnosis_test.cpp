@@ -7,6 +7,8 @@
 // Savitzky-Golay at 200 Hz and 1 kHz.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <map>
 
 #include "inertial/estimation/joint_diagnosis.hpp"
@@ -195,13 +197,18 @@ TEST(EffectDiagnosis, TwoEffectsOnDifferentJointsAreFoundInTurn) {
 TEST(EffectDiagnosis, CleanDataGetsNoSuggestion) {
   const Outcome free = RunCase(Case{"leg3.urdf", "", {}});
   EXPECT_EQ(free.diagnosis.num_suggestions, 0) << Ranking(free.diagnosis);
-  EXPECT_EQ(free.diagnosis.candidates.size(), 15u);
+  // 5 kinds on 3 joints, plus each asymmetric or sigmoid form whose shape passes the screen (on
+  // noise, one extra parameter passes Akaike's bar some 16 % of the time): at most 6 more.
+  EXPECT_GE(free.diagnosis.candidates.size(), 15u);
+  EXPECT_LE(free.diagnosis.candidates.size(), 21u);
   EXPECT_LT(free.diagnosis.fit_validation.total_rms, 1.02 * free.truth.total_rms);
   Case held{"leg3.urdf", "", {}};
   held.hold_links = true;
   const Outcome h = RunCase(held);
   EXPECT_EQ(h.diagnosis.num_suggestions, 0) << Ranking(h.diagnosis);
-  EXPECT_EQ(h.diagnosis.candidates.size(), 18u);  // + a payload on each of the 3 moving bodies
+  // + a payload on each of the 3 moving bodies
+  EXPECT_GE(h.diagnosis.candidates.size(), 18u);
+  EXPECT_LE(h.diagnosis.candidates.size(), 24u);
 }
 
 // Messy data: accelerations from Savitzky-Golay-differentiated encoder positions, at 200 Hz and 1 kHz.
@@ -252,7 +259,52 @@ TEST(EffectDiagnosis, CoulombFrictionOnTheArmsWrist) {
   Case c{"arm7.urdf", "coulomb@joint6", {0.028}, 250, 20};
   const Outcome o = RunCase(c);
   ExpectFound(o, "coulomb@joint6", 5);
-  EXPECT_EQ(o.diagnosis.candidates.size(), 35u);
+  // 5 kinds on 7 joints, plus the asymmetric and sigmoid forms where a joint's residual shows more
+  // than a symmetric step (at most 14 more).
+  EXPECT_GE(o.diagnosis.candidates.size(), 35u);
+  EXPECT_LE(o.diagnosis.candidates.size(), 49u);
+}
+
+// Friction as Gaz et al. (RA-L 2019) identified it on the Franka Panda: a sigmoid of steepness 40
+// s/rad shifted by 0.025 rad/s on three joints of the arm, some 10 % of their torque. The loop runs
+// on one trajectory (its last 30 % held out); its model, refitted on that whole trajectory,
+// predicts a different trajectory at least as well as the hand-picked offset + viscous + Coulomb
+// set on every joint (which the sigmoid's levels away from rest resemble, but not its transition).
+TEST(EffectDiagnosis, PandaFrictionChosenOnOneTrajectoryPredictsAnother) {
+  const RobotModel robot = LoadUrdf(testing::Example("arm7.urdf"));
+  const std::string hidden =
+      "sigmoid@joint2:steepness=40:shift=0.025,sigmoid@joint4:steepness=40:shift=-0.02,sigmoid@joint6:steepness=40:shift=0.025";
+  const RobotDynamics truth = MakeRobotDynamics(robot, ParseEffectList(hidden));
+  const Eigen::VectorXd x = testing::CadErrorParameters(truth, {1.5, 0.6, 0.06}, 7);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(truth, x, kSigma, 30, 31, 250);
+  const RobotModelFactory make = [&robot](const std::vector<EffectSpec>& e) { return MakeRobotDynamics(robot, e); };
+  JointSamples train, held;
+  SplitHoldout(logs.train, 0.3, &train, &held);
+  std::vector<DiagnosisStep> steps;
+  const JointDiagnosis d = IterateJointDiagnosis(make, {}, robot.body_links, train, held, JointDiagnosisOptions(), 10, &steps);
+  std::vector<EffectSpec> chosen;
+  std::string names;
+  for (const DiagnosisStep& step : steps) {
+    chosen.push_back(ParseEffectList(step.item).at(0));
+    names += step.item + " ";
+  }
+  ASSERT_GE(chosen.size(), 3u) << names;
+  auto on_other_trajectory = [&](const std::vector<EffectSpec>& effects) {
+    const RobotDynamics model = make(effects);
+    const JointIdentificationResult fit = IdentifyJointModel(model, AccumulateNormalEquations(model, logs.train));
+    return CompareTorques(PredictJointTorques(model, fit.x, logs.test), logs.test.tau).total_rms;
+  };
+  const double mine = on_other_trajectory(chosen);
+  const double hand = on_other_trajectory(ParseEffectList("offset,viscous,coulomb"));
+  const double floor = CompareTorques(PredictJointTorques(truth, x, logs.test), logs.test.tau).total_rms;
+  std::cout << "chosen: " << names << "\nother trajectory RMS: chosen " << mine << ", offset+viscous+coulomb " << hand
+            << ", truth " << floor << " N m\n";
+  EXPECT_LE(mine, hand) << names << " hand " << hand << " floor " << floor;
+  EXPECT_LT(mine, 1.05 * floor) << names;
+  // Each of the three joints got a friction term that can hold a shifted sigmoid.
+  for (const std::string joint : {"joint2", "joint4", "joint6"}) {
+    EXPECT_NE(names.find("@" + joint), std::string::npos) << names;
+  }
 }
 
 // Effects the free links imitate (issue: a hip with rotor armature made the thigh 6 times heavier;

@@ -84,6 +84,9 @@ TEST(EffectList, RejectsMalformedItemsNamingThem) {
   EXPECT_NE(message("viscous:scale=1").find("unknown option 'scale'"), std::string::npos);
   EXPECT_NE(message("viscous,,offset").find("empty item"), std::string::npos);
   EXPECT_NE(message("viscous@").find("empty target"), std::string::npos);
+  EXPECT_NE(message("sigmoid:steepness=0").find("must be positive"), std::string::npos);
+  EXPECT_NE(message("sigmoid:shift=x").find("'x' is not a number"), std::string::npos);
+  EXPECT_NE(message("asymmetric:shift=0.1").find("unknown option 'shift'"), std::string::npos);
 }
 
 // Without effects and at x = 0 (the prior), the model is the tree's own inverse dynamics.
@@ -128,6 +131,63 @@ TEST(RobotDynamics, JointEffectsAddTheirTorques) {
   const Eigen::VectorXd w = model.Coefficients(x);
   const Eigen::VectorXd x_back = model.ParametersFromEffectCoefficients(w.tail(6));
   EXPECT_LT((x_back.tail(6) - x.tail(6)).norm(), 1e-12);
+}
+
+// The friction shapes of real arms against their formulas: asymmetric Coulomb (one level per
+// direction) and the sigmoid of Gaz et al. 2019 (eq. 8) written with exp, as the paper does.
+TEST(RobotDynamics, FrictionShapesAddTheirTorques) {
+  Rng rng(27);
+  const KinematicTree tree = Chain(rng);
+  const std::vector<EffectSpec> effects =
+      ParseEffectList("asymmetric@j0:scale=0.05,sigmoid@j1:steepness=40:shift=-0.03,asymmetric@j2:scale=0.1");
+  EXPECT_DOUBLE_EQ(effects[1].steepness, 40.0);
+  EXPECT_DOUBLE_EQ(effects[1].shift, -0.03);
+  const RobotDynamics model(tree, kJoints, effects, ChainLinks(SpatialTransform()));
+  ASSERT_EQ(model.num_parameters(), 30 + 5);
+  const double bp = 0.8, bn = 0.3, p1 = 1.7, bp2 = 0.2, bn2 = 0.9;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(35);
+  x.tail<5>() << std::log(bp), std::log(bn), std::log(p1), std::log(bp2), std::log(bn2);
+  auto logistic = [](double z) { return 1.0 / (1.0 + std::exp(-z)); };
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::VectorXd q = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-2, 2); });
+    const Eigen::VectorXd qd = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-0.3, 0.3); });
+    const Eigen::VectorXd qdd = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-2, 2); });
+    Eigen::VectorXd expected = tree.InverseDynamics(q, qd, qdd);
+    const double s0 = std::tanh(qd[0] / 0.05), s2 = std::tanh(qd[2] / 0.1);
+    expected[0] += s0 > 0 ? bp * s0 : bn * s0;
+    expected[1] += p1 * logistic(40.0 * (qd[1] - 0.03)) - p1 * logistic(40.0 * -0.03);
+    expected[2] += s2 > 0 ? bp2 * s2 : bn2 * s2;
+    EXPECT_LT((model.InverseDynamics(x, q, qd, qdd) - expected).norm(), 1e-11 * (1 + expected.norm()));
+    for (int k = 0; k < 3; ++k) {
+      const ModelEffect m{effects[k], model.EffectValues(k, x)};
+      const double alone = k == 0 ? (s0 > 0 ? bp * s0 : bn * s0)
+                           : k == 1 ? p1 * (logistic(40.0 * (qd[1] - 0.03)) - logistic(-1.2))
+                                    : (s2 > 0 ? bp2 * s2 : bn2 * s2);
+      EXPECT_NEAR(VelocityEffectTorque(m.spec, m.values, qd[k]), alone, 1e-12);
+    }
+  }
+  EXPECT_NEAR(model.EffectValues(0, x)[1], bn, 1e-12);
+  EXPECT_NEAR(model.EffectValues(1, x)[0], p1, 1e-12);
+  // Zero friction at rest, and the sigmoid's two levels: p1 (1 - S(p2 p3)) and -p1 S(p2 p3).
+  EXPECT_EQ(SigmoidFriction(0.0, 40.0, -0.03), 0.0);
+  EXPECT_NEAR(SigmoidFriction(1e3, 40.0, -0.03), 1.0 - logistic(-1.2), 1e-12);
+  EXPECT_NEAR(SigmoidFriction(-1e3, 40.0, -0.03), -logistic(-1.2), 1e-12);
+  // Round trips: coefficients, model-file values, and the --effects item.
+  const Eigen::VectorXd w = model.Coefficients(x);
+  EXPECT_LT((model.ParametersFromEffectCoefficients(w.tail(5)).tail(5) - x.tail(5)).norm(), 1e-12);
+  std::vector<ModelEffect> values;
+  for (int k = 0; k < 3; ++k) values.push_back({effects[k], model.EffectValues(k, x)});
+  EXPECT_LT((model.ParametersFromEffectValues(values).tail(5) - x.tail(5)).norm(), 1e-12);
+  for (const EffectSpec& e : effects) {
+    const EffectSpec back = ParseEffectList(EffectItem(e)).at(0);
+    EXPECT_EQ(back.kind, e.kind);
+    EXPECT_EQ(back.target, e.target);
+    EXPECT_DOUBLE_EQ(back.velocity_scale, e.velocity_scale);
+    EXPECT_DOUBLE_EQ(back.steepness, e.steepness);
+    EXPECT_DOUBLE_EQ(back.shift, e.shift);
+  }
+  values[0].values[1] = -0.1;
+  EXPECT_THROW(model.ParametersFromEffectValues(values), std::invalid_argument);
 }
 
 // A payload on a link frame posed inside a body adds exactly its inertia to that body.
@@ -178,7 +238,8 @@ TEST(RobotDynamics, RotorReflectsItsInertia) {
 TEST(RobotDynamics, CoefficientJacobianMatchesFiniteDifferences) {
   Rng rng(25);
   const KinematicTree tree = Chain(rng);
-  const RobotDynamics model(tree, kJoints, ParseEffectList("viscous,coulomb,offset,armature@j1,spring@j2,payload@tool,rotor@j1:gear=5"),
+  const RobotDynamics model(tree, kJoints, ParseEffectList("viscous,coulomb,offset,armature@j1,spring@j2,payload@tool,rotor@j1:gear=5,"
+                                            "asymmetric@j0,sigmoid@j2:shift=0.01"),
                             ChainLinks(SpatialTransform()));
   const int n = model.num_parameters();
   const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return rng.Uniform(-0.5, 0.5); });

@@ -201,7 +201,7 @@ TEST(DiagnoseCli, KukaLwr4IteratedSuggestionsMatchTheHandPickedModel) {
     const double before = step["rms_validation_before"]["total"], after = step["rms_validation_after"]["total"];
     EXPECT_TRUE(after < before || (step["restored"].get<double>() >= 0.5 && after < 1.01 * before))
         << step["added"] << " " << before << " -> " << after;
-    chosen += (chosen.empty() ? "" : ",") + step["added"].get<std::string>();
+    chosen += (chosen.empty() ? "" : ",") + step["item"].get<std::string>();
   }
   EXPECT_TRUE(j["suggestions"].empty());
   EXPECT_TRUE(j["physically_consistent"].get<bool>());

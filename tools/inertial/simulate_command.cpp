@@ -138,9 +138,13 @@ int RunSimulateCommand(const SimulateCommand& c) {
   Eigen::VectorXd coefficients(n_effect);
   for (int k = 0; k < n_effect; ++k) coefficients[k] = values[k % values.size()];
   for (const EffectTerm& t : model->effects()) {
-    if (t.kind != EffectKind::kOffset && coefficients[t.first_feature - model->num_inertia_features()] < 0) {
-      std::cerr << "Error: --effect-values: " << ToString(t.kind) << "@" << t.joint << " must be >= 0\n";
-      return kInvalidValue;
+    // Every coefficient is non-negative but an offset's and a spring's k q0.
+    const int non_negative = t.kind == EffectKind::kOffset ? 0 : t.kind == EffectKind::kSpring ? 1 : t.size();
+    for (int i = 0; i < non_negative; ++i) {
+      if (coefficients[t.first_feature + i - model->num_inertia_features()] < 0) {
+        std::cerr << "Error: --effect-values: " << ToString(t.kind) << "@" << t.joint << " must be >= 0\n";
+        return kInvalidValue;
+      }
     }
   }
   Eigen::VectorXd x = model->ParametersFromEffectCoefficients(coefficients, 1e-300);

@@ -71,9 +71,13 @@ struct JointDiagnosisOptions {
   /// Smallest fall of some joint's held-out RMS, relative to its measured torque RMS.
   double min_gain = 0.005;
   /// Joint effect kinds tested on every joint (each only where the model lacks it).
-  std::vector<EffectKind> joint_kinds{EffectKind::kViscous, EffectKind::kCoulomb, EffectKind::kOffset,
-                                      EffectKind::kArmature, EffectKind::kSpring};
-  double coulomb_velocity_scale = 0.01;  ///< v_s of the Coulomb candidates [rad/s]
+  /// Coulomb, asymmetric and sigmoid friction get their shape fitted first (friction_shape.hpp);
+  /// asymmetric and sigmoid are tested only on joints whose residual shows more than Coulomb's.
+  std::vector<EffectKind> joint_kinds{EffectKind::kViscous,  EffectKind::kCoulomb, EffectKind::kAsymmetric,
+                                      EffectKind::kSigmoid,  EffectKind::kOffset,  EffectKind::kArmature,
+                                      EffectKind::kSpring};
+  /// v_s of a Coulomb candidate where no fitted scale explains anything [rad/s]
+  double coulomb_velocity_scale = 0.01;
   /// Worker threads for the candidate fits (0: one per hardware thread).
   int threads = 0;
 };
@@ -133,6 +137,7 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
 /// One step of IterateJointDiagnosis: the effect added and the held-out errors before and after.
 struct DiagnosisStep {
   std::string added;                ///< e.g. "coulomb@knee"
+  std::string item;                 ///< as --effects takes it, e.g. "coulomb@knee:scale=0.0125"
   double explained = 0.0;           ///< the held-out share it removed when it was added
   CandidateEvidence evidence;       ///< how it was judged
   TorqueErrors before, after;       ///< held-out, of the model without and with it

@@ -7,6 +7,17 @@
 ///   coulomb   bc tanh(qd / v_s)         bc >= 0         [N m]; smoothed sign(qd), v_s = `scale`
 ///                                                       (default 0.01 rad/s; tanh is within 2 % of
 ///                                                       sign(qd) for |qd| > 2.3 v_s)
+///   asymmetric  bp s+ + bn s-           bp, bn >= 0     [N m]; Coulomb friction with its own level in
+///                                                       each direction: s = tanh(qd / v_s), s+ = max(s, 0),
+///                                                       s- = min(s, 0) (v_s = `scale`, as coulomb)
+///   sigmoid   p1 (S(p2 (qd + p3)) - S(p2 p3))           [N m]; the friction model of Gaz et al.,
+///                                       p1 >= 0         "Dynamic identification of the Franka Emika Panda
+///                                                       robot with retrieval of feasible parameters using
+///                                                       penalty-based optimization", RA-L 4(4) 2019, eq. 8:
+///                                                       S(x) = 1 / (1 + e^-x), steepness p2 = `steepness`
+///                                                       [s/rad] (default 50), shift p3 = `shift` [rad/s]
+///                                                       (default 0, may be negative); zero at qd = 0,
+///                                                       levels p1 (1 - S(p2 p3)) and -p1 S(p2 p3)
 ///   offset    c                         free            [N m] (torque-sensor bias)
 ///   armature  Ia qdd                    Ia >= 0         [kg m^2] (reflected rotor inertia)
 ///   spring    k (q - q0)                k >= 0, q0 free [N m/rad], [rad]
@@ -18,8 +29,11 @@
 ///             radius 0.04 m and length 0.03 m; `mass=`, `radius=`, `length=` change it).
 /// (Units are those of revolute joints; prismatic joints use N, m, kg.)
 ///
+/// The velocity scale of coulomb and asymmetric and the steepness and shift of sigmoid are fixed per
+/// term (the coefficients stay linear in the features); `inertial diagnose` fits them to the data
+/// when it offers these effects (joint_diagnosis.hpp).
 /// Syntax of a list: items separated by commas, each `kind[@target][:key=value...]`, e.g.
-///   viscous,coulomb@knee:scale=0.05,payload@tool0:mass=2,rotor@hip:gear=6
+///   viscous,coulomb@knee:scale=0.05,sigmoid@elbow:steepness=40:shift=0.02,payload@tool0:mass=2,rotor@hip:gear=6
 /// A joint effect without a target applies to every actuated joint; payload and rotor need one.
 #pragma once
 
@@ -32,17 +46,21 @@
 
 namespace inertial {
 
-enum class EffectKind { kViscous, kCoulomb, kOffset, kArmature, kSpring, kPayload, kRotor };
+enum class EffectKind { kViscous, kCoulomb, kOffset, kArmature, kSpring, kPayload, kRotor, kAsymmetric, kSigmoid };
 
-/// "viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor".
+/// "viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor", "asymmetric", "sigmoid".
 std::string_view ToString(EffectKind kind);
+/// Every kind, in the order of EffectKind.
+const std::vector<EffectKind>& AllEffectKinds();
 /// True for the per-joint scalar effects (not payload or rotor).
 bool IsJointEffect(EffectKind kind);
 
 struct EffectSpec {
   EffectKind kind = EffectKind::kViscous;
   std::string target;            ///< joint (joint effects, rotor) or link (payload); empty: every joint
-  double velocity_scale = 0.01;  ///< coulomb smoothing v_s [rad/s or m/s]
+  double velocity_scale = 0.01;  ///< coulomb, asymmetric smoothing v_s [rad/s or m/s]
+  double steepness = 50.0;       ///< sigmoid p2 [s/rad or s/m]
+  double shift = 0.0;            ///< sigmoid p3 [rad/s or m/s]
   double gear_ratio = 0.0;       ///< rotor: rotor rate / joint rate (required, non-zero)
   double mass = 0.0;             ///< payload / rotor prior mass [kg] (0: the default above)
   double radius = 0.0;           ///< payload / rotor prior radius [m] (0: the default above)
@@ -58,12 +76,26 @@ struct EffectSpec {
 struct ModelEffect {
   EffectSpec spec;  ///< a joint effect has one target joint; a body effect has spec.inertia set
   /// Joint effects: the physical coefficients in RobotDynamics::EffectValues order ({b}, {bc},
-  /// {c}, {Ia}, {k, q0}); body effects: empty.
+  /// {c}, {Ia}, {k, q0}, {bp, bn}, {p1}); body effects: empty.
   std::vector<double> values;
 };
 
-/// The number of coefficients of a joint effect of `kind` (2 for a spring, else 1; 0 for bodies).
+/// The number of coefficients of a joint effect of `kind` (2 for spring and asymmetric, else 1; 0 for
+/// bodies).
 int NumEffectValues(EffectKind kind);
+
+/// The sigmoid friction feature at unit amplitude: S(p2 (qd + p3)) - S(p2 p3), S(x) = 1 / (1 + e^-x).
+double SigmoidFriction(double qd, double steepness, double shift);
+
+/// The torque of a velocity-only joint effect (viscous, coulomb, asymmetric, sigmoid, offset) with
+/// coefficients `values` (ModelEffect order) at joint velocity qd; NaN for the other kinds.
+double VelocityEffectTorque(const EffectSpec& spec, const std::vector<double>& values, double qd);
+
+/// The item in `--effects` syntax that gives back `spec` (kind@target with the shape options of
+/// coulomb, asymmetric and sigmoid, a rotor's gear, the prior's mass, radius and length where set;
+/// 4 significant digits), e.g. "coulomb@knee:scale=0.0125". A body stated by a model file
+/// (spec.inertia) is not an item: its prior shape comes out as the default one.
+std::string EffectItem(const EffectSpec& spec);
 
 /// Parses a comma-separated list. Targets are not checked against a model here.
 /// @throws std::invalid_argument naming the item and what is wrong (unknown kind, missing target,

@@ -4,15 +4,16 @@
 ///   tau = A(q, qd, qdd) w(x),
 ///
 /// where A = [Y  Phi] holds the joint-torque regressor Y of every tree body (links and rotors, 10
-/// columns each) and the effect features Phi (qd, tanh(qd/v_s), 1, qdd, q ...), and w(x) stacks the
+/// columns each) and the effect features Phi (qd, tanh(qd/v_s), 1, qdd, q, the sigmoid ...), and w(x) stacks the
 /// bodies' pi and the effect coefficients. A depends on the data only; w on the parameters only.
 ///
 /// x = [theta of every estimated body (10 each, log-Cholesky relative to its prior, eq. 11: x = 0
 /// is the prior); effect parameters]. Estimated bodies are, in order: every tree body (URDF links,
 /// then rotors), then payloads (each adds to the pi block of the tree body its link belongs to).
-/// Effect parameters: s with coefficient e^s for viscous, coulomb, armature (non-negative by
-/// construction); c for offset; [s, q0] for spring (k = e^s, features q and -1 with coefficients
-/// k and k q0). See joint_effect.hpp for the catalog.
+/// Effect parameters: s with coefficient e^s for viscous, coulomb, armature, sigmoid (non-negative
+/// by construction); [s+, s-] for asymmetric (bp = e^s+, bn = e^s-); c for offset; [s, q0] for
+/// spring (k = e^s, features q and -1 with coefficients k and k q0). See joint_effect.hpp for the
+/// catalog.
 /// Conventions: pi about each tree body's frame origin in its axes (types.hpp order); SI units;
 /// gravity in the base frame.
 #pragma once
@@ -47,10 +48,12 @@ struct EffectTerm {
   EffectKind kind = EffectKind::kViscous;
   int dof = -1;
   std::string joint;
-  double velocity_scale = 0.01;  ///< coulomb only
+  double velocity_scale = 0.01;  ///< coulomb, asymmetric
+  double steepness = 50.0;       ///< sigmoid
+  double shift = 0.0;            ///< sigmoid
   int first_parameter = 0;       ///< index into x
   int first_feature = 0;         ///< index into w and the columns of A
-  int size() const { return kind == EffectKind::kSpring ? 2 : 1; }
+  int size() const { return NumEffectValues(kind); }
 };
 
 class RobotDynamics {
@@ -102,7 +105,7 @@ class RobotDynamics {
   Eigen::VectorXd ParametersFromEffectValues(const std::vector<ModelEffect>& effects) const;
   /// Estimated body e at x, in its report frame.
   InertialParams BodyInertia(int e, const Eigen::VectorXd& x) const;
-  /// The physical coefficients of effect term k at x: {b}, {bc}, {c}, {Ia}, or {k, q0}.
+  /// The physical coefficients of effect term k at x: {b}, {bc}, {c}, {Ia}, {k, q0}, {bp, bn} or {p1}.
   std::vector<double> EffectValues(int k, const Eigen::VectorXd& x) const;
 
  private:
