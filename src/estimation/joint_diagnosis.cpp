@@ -323,21 +323,68 @@ std::optional<EffectSpec> ShapedCandidate(const Prepared& p, EffectKind kind, co
   return s;
 }
 
+// Rows [begin, begin + count) of a log.
+JointSamples Rows(const JointSamples& data, int begin, int count) {
+  JointSamples out;
+  out.joint_names = data.joint_names;
+  out.t = data.t.segment(begin, count);
+  out.q = data.q.middleRows(begin, count);
+  out.qd = data.qd.middleRows(begin, count);
+  out.qdd = data.qdd.middleRows(begin, count);
+  out.tau = data.tau.middleRows(begin, count);
+  return out;
+}
+
+// Per-joint statistics of a log, its samples split evenly over `threads` threads (sums of
+// per-sample terms: the split changes only the order of the additions).
+std::vector<JointNormalEquations> JointwiseInParallel(const RobotDynamics& model, const JointSamples& data, int threads) {
+  threads = std::max(1, std::min(threads, data.size() / 1000));
+  if (threads == 1) return AccumulateJointwiseNormalEquations(model, data);
+  std::vector<std::vector<JointNormalEquations>> parts(threads);
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> pool;
+  for (int k = 0; k < threads; ++k) {
+    const int begin = static_cast<int>(static_cast<long>(data.size()) * k / threads);
+    const int end = static_cast<int>(static_cast<long>(data.size()) * (k + 1) / threads);
+    pool.emplace_back([&, k, begin, end]() {
+      try {
+        parts[k] = AccumulateJointwiseNormalEquations(model, Rows(data, begin, end - begin));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    });
+  }
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  std::vector<JointNormalEquations> sum = parts[0];
+  for (int k = 1; k < threads; ++k) {
+    for (size_t j = 0; j < sum.size(); ++j) {
+      sum[j].AtA += parts[k][j].AtA;
+      sum[j].Atb += parts[k][j].Atb;
+      sum[j].btb += parts[k][j].btb;
+      sum[j].num_samples += parts[k][j].num_samples;
+    }
+  }
+  return sum;
+}
+
 void PrepareStatistics(const RobotModelFactory& make, const std::vector<EffectSpec>& catalog_effects,
-                       const JointSamples& train, const JointSamples& validation, Prepared* out) {
+                       const JointSamples& train, const JointSamples& validation, int threads, Prepared* out) {
   Prepared& p = *out;
   p.catalog.emplace(make(catalog_effects));
   const RobotDynamics& catalog = *p.catalog;
   const std::vector<std::string> names = catalog.FeatureNames();
   for (int f = 0; f < static_cast<int>(names.size()); ++f) p.index[names[f]] = f;
-  p.train_jointwise = AccumulateJointwiseNormalEquations(catalog, train);
+  p.train_jointwise = JointwiseInParallel(catalog, train, threads);
   p.train_eq = p.train_jointwise[0];
   for (size_t k = 1; k < p.train_jointwise.size(); ++k) {
     p.train_eq.AtA += p.train_jointwise[k].AtA;
     p.train_eq.Atb += p.train_jointwise[k].Atb;
     p.train_eq.btb += p.train_jointwise[k].btb;
   }
-  p.validation_eq = AccumulateJointwiseNormalEquations(catalog, validation);
+  p.validation_eq = JointwiseInParallel(catalog, validation, threads);
   // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on what
   // the most complete model leaves (every candidate, links free, linear least squares on the
   // training data), since the model's own residual is coloured by the very effects it lacks.
@@ -437,7 +484,9 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   for (const EffectSpec& s : candidates) {
     if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
   }
-  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, &data);
+  const int threads = options.threads > 0 ? options.threads
+                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, threads, &data);
   auto features_of = [&](const RobotDynamics& m) {
     std::vector<int> index;
     for (const std::string& name : m.FeatureNames()) {
@@ -452,14 +501,22 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   out.train_samples = train.size();
   out.validation_samples = validation.size();
 
-  // The model itself.
-  std::vector<Job> base_job(1);
+  // The model itself, and (when it has effects) the links alone, fitted side by side.
+  std::vector<Job> base_job(effects.empty() ? 1 : 2);
   base_job[0].model.emplace(base);
   base_job[0].features = features_of(base);
   base_job[0].options = options.fit;
   base_job[0].tolerance = options.prior_tolerance;
   base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links, HeldLinks(effects));
-  RunJobs(base_job, train_eq, validation_eq, 1);
+  if (!effects.empty()) {
+    Job& links = base_job[1];
+    links.model.emplace(make({}));
+    links.features = features_of(*links.model);
+    links.options = options.fit;
+    links.tolerance = options.prior_tolerance;
+    links.options.frozen_bodies = FrozenBodies(*links.model, options.hold_links);
+  }
+  RunJobs(base_job, train_eq, validation_eq, threads);
   out.frozen_bodies = base_job[0].options.frozen_bodies;
   out.fit = base_job[0].fit;
   out.fit_validation = base_job[0].validation;
@@ -503,16 +560,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
                                 "the data's magnitudes)");
   }
 
-  if (!effects.empty()) {
-    std::vector<Job> links(1);
-    links[0].model.emplace(make({}));
-    links[0].features = features_of(*links[0].model);
-    links[0].options = options.fit;
-    links[0].tolerance = options.prior_tolerance;
-    links[0].options.frozen_bodies = FrozenBodies(*links[0].model, options.hold_links);
-    RunJobs(links, train_eq, validation_eq, 1);
-    out.links_only_validation = links[0].validation;
-  }
+  if (!effects.empty()) out.links_only_validation = base_job[1].validation;
 
   // Each candidate on its own, warm-started from the model's fit.
   auto named = [](const RobotDynamics& m, const Eigen::VectorXd& x) {
