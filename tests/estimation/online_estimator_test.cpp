@@ -14,7 +14,9 @@
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
+#include "inertial/model/robot_dynamics.hpp"
 #include "inertial/model/spatial_algebra.hpp"
+#include "leg_chain.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
@@ -105,6 +107,40 @@ TEST(ParameterLayout, JacobianMatchesCentralDifferences) {
   EXPECT_THROW(ParameterLayout(10, {BodyBlock{LogCholeskyParameterization(p1), 5, 0}}, {}), std::invalid_argument);
   EXPECT_THROW(ParameterLayout(12, {BodyBlock{LogCholeskyParameterization(p1), 0, 0}}, {ScalarBlock{ScalarMap::kLinear, 10, 9}}),
                std::invalid_argument);
+}
+
+// The online estimators' layout of a robot holds every effect kind as RobotDynamics does (the
+// asymmetric friction's two levels both e^s, the sigmoid's level e^s): same w(x), and H = A J_w
+// against central differences.
+TEST(ParameterLayout, FromRobotMatchesTheModelForEveryEffectKind) {
+  Rng rng(32);
+  const RobotDynamics model(testing::LegChain(testing::LegPriorLinks()), testing::kLegJoints,
+                            ParseEffectList("viscous,coulomb,offset@abad,armature@knee,spring@hip,asymmetric@hip,"
+                                            "sigmoid@knee:steepness=30:shift=0.01"),
+                            testing::NoLinks());
+  const ParameterLayout layout = ParameterLayout::FromRobot(model);
+  ASSERT_EQ(layout.num_parameters(), model.num_parameters());
+  const int P = model.num_parameters(), F = model.num_features();
+  for (int trial = 0; trial < 10; ++trial) {
+    Eigen::VectorXd x(P);
+    for (int i = 0; i < P; ++i) x[i] = rng.Uniform(-0.5, 0.5);
+    Eigen::VectorXd w(F);
+    layout.Coefficients(x, w);
+    EXPECT_LT((w - model.Coefficients(x)).norm(), 1e-13 * (1 + w.norm()));
+    Eigen::MatrixXd A(3, F);
+    for (int i = 0; i < A.size(); ++i) A.data()[i] = rng.Normal();
+    Eigen::MatrixXd H(3, P);
+    layout.Evaluate(x, A, w, H);
+    Eigen::MatrixXd H_fd(3, P);
+    const double h = 1e-6;
+    for (int j = 0; j < P; ++j) {
+      Eigen::VectorXd xp = x, xm = x;
+      xp[j] += h;
+      xm[j] -= h;
+      H_fd.col(j) = A * (model.Coefficients(xp) - model.Coefficients(xm)) / (2 * h);
+    }
+    EXPECT_LT((H - H_fd).norm() / H_fd.norm(), 1e-7);
+  }
 }
 
 // With no forgetting and no robust weighting, recursive least squares is exactly the batch

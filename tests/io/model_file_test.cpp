@@ -25,7 +25,8 @@ using testing::WriteTextFile;
 // Every kind: viscous and Coulomb (non-default scale) everywhere, offset, armature, a spring, a
 // rotor behind a gearbox, a payload on a link merged by a fixed joint (foot).
 const char* kAllEffects =
-    "viscous,coulomb:scale=0.05,offset@abad,armature@knee,spring@hip,rotor@hip:gear=6,payload@foot:mass=0.8";
+    "viscous,coulomb:scale=0.05,offset@abad,armature@knee,spring@hip,rotor@hip:gear=6,payload@foot:mass=0.8,"
+    "asymmetric@abad:scale=0.03,sigmoid@knee:steepness=35:shift=-0.02";
 
 // The model a file holds: its effects with their values, x from them.
 struct ReadBack {
@@ -66,7 +67,11 @@ double PredictionDifference(const RobotDynamics& a, const Eigen::VectorXd& xa, c
 TEST(ModelFile, EveryEffectKindRoundTripsToTheSamePredictions) {
   const RobotModel robot = LoadUrdf(Example("leg3.urdf"));
   const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList(kAllEffects));
-  const Eigen::VectorXd x = testing::TrueParameters(model, {0.3, 0.2, -0.15, 0.02, 1.5, 0.1}, 7);
+  // One value per effect feature: viscous x3, coulomb x3, offset, armature, spring (k, k q0),
+  // asymmetric (bp, bn), sigmoid.
+  const Eigen::VectorXd x =
+      testing::TrueParameters(model, {0.3, 0.2, 0.25, 0.4, 0.3, 0.2, -0.15, 0.02, 1.5, 0.1, 0.4, 0.25, 0.6}, 7);
+  ASSERT_EQ(model.num_features() - model.num_inertia_features(), 13);
   const auto path = TempUrdfPath("all_effects.urdf");
   WriteModelUrdf(Example("leg3.urdf"), path.string(), robot, model, SnapshotAt(model, x), "a test");
   const ReadBack back = Read(path.string());
@@ -76,10 +81,15 @@ TEST(ModelFile, EveryEffectKindRoundTripsToTheSamePredictions) {
   EXPECT_EQ(back.model->bodies().size(), model.bodies().size());
   EXPECT_EQ(back.robot.DeclaredEffects().size(), back.robot.effects.size());
   EXPECT_LT(PredictionDifference(model, x, *back.model, back.x, 3), 1e-12);
-  // The Coulomb scale is kept.
+  // The Coulomb scales and the sigmoid's shape are kept.
   for (const EffectTerm& t : back.model->effects()) {
     if (t.kind == EffectKind::kCoulomb) {
       EXPECT_EQ(t.velocity_scale, 0.05);
+    }
+    if (t.kind == EffectKind::kAsymmetric) EXPECT_EQ(t.velocity_scale, 0.03);
+    if (t.kind == EffectKind::kSigmoid) {
+      EXPECT_EQ(t.steepness, 35.0);
+      EXPECT_EQ(t.shift, -0.02);
     }
   }
   // Writing what was read gives the same file content for the model (a fixed point).
@@ -167,6 +177,11 @@ TEST(ModelFile, BadEffectElementsAreRefusedNamingThem) {
       {"<dynamics damping=\"-0.1\"/>", "", "must be >= 0"},
       {"<dynamics damping=\"1e999\"/>", "", "damping"},
       {ok_dyn, "<spring joint=\"j\" stiffness=\"2\"/>", "rest_position"},
+      {ok_dyn, "<asymmetric joint=\"j\" velocity_scale=\"0.01\" positive=\"1\"/>", "negative"},
+      {ok_dyn, "<asymmetric joint=\"j\" velocity_scale=\"0\" positive=\"1\" negative=\"1\"/>", "velocity_scale"},
+      {ok_dyn, "<asymmetric joint=\"j\" velocity_scale=\"1\" positive=\"-1\" negative=\"1\"/>", "must be >= 0"},
+      {ok_dyn, "<sigmoid joint=\"j\" amplitude=\"1\" steepness=\"-3\" shift=\"0\"/>", "steepness"},
+      {ok_dyn, "<sigmoid joint=\"j\" amplitude=\"1\" steepness=\"30\"/>", "shift"},
       {ok_dyn, "<rotor joint=\"j\" gear_ratio=\"6\"/>", "no <inertial>"},
       {ok_dyn, "<rotor joint=\"j\" gear_ratio=\"0\"><inertial><mass value=\"1\"/></inertial></rotor>", "gear_ratio"},
       {ok_dyn,

@@ -19,7 +19,8 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
       "diagnose",
       "Fit the model as `identify` does, compare it with held-out data (--validate, the last --holdout fraction "
       "of --data, or for --body K-fold cross-validation), show where it fails and how far each identified link "
-      "departs from its URDF, and rank the candidate effects it lacks (viscous, coulomb, offset, armature, "
+      "departs from its URDF, and rank the candidate effects it lacks (viscous, coulomb with a fitted velocity "
+      "scale, asymmetric and sigmoid friction where the residual shows them, offset, armature, "
       "spring per joint; a payload on each link the fit bends, or with --hold-links on every link; for --body data "
       "force_bias, moment_bias, velocity_bias, gravity) by the held-out error each removes, its significance, and "
       "the plausibility it gives back to the links. Add the top one with --effects and run again (--iterate does).");

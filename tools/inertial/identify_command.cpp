@@ -29,7 +29,8 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
   sub->add_option("--validate", c->validate, "validation log (CSV): errors of the prior and of the fit on it");
   sub->add_option("--effects", c->effects,
                   "effects beyond rigid links, e.g. viscous,coulomb@knee:scale=0.05,offset,armature,spring,"
-                  "payload@tool0:mass=2,rotor@hip:gear=6 (a joint effect without @ applies to every joint)");
+                  "asymmetric@hip:scale=0.02,sigmoid@knee:steepness=40:shift=0.02,payload@tool0:mass=2,"
+                  "rotor@hip:gear=6 (a joint effect without @ applies to every joint)");
   sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0 (the paper: 1e-2)")->default_val("0.01");
   sub->add_option("--max-iterations", c->max_iterations, "Levenberg-Marquardt iteration cap, 1 to 100000")
       ->default_val("1000");
