@@ -73,6 +73,46 @@ int CandidateParameters(EffectKind kind) {
 }
 
 
+// Dry-friction forms: one per joint. A richer form replaces a simpler one present on its joint
+// (coulomb -> asymmetric or sigmoid) instead of joining it: stacked on one joint their features
+// are nearly collinear (a sigmoid of zero shift is half a Coulomb step; Coulomb is the asymmetric
+// form with equal levels), and their coefficients undetermined.
+bool IsDryFriction(EffectKind kind) {
+  return kind == EffectKind::kCoulomb || kind == EffectKind::kAsymmetric || kind == EffectKind::kSigmoid;
+}
+
+// The effects with every joint effect stated for all joints (no target) written out per joint, so
+// that one joint's term can be replaced.
+std::vector<EffectSpec> PerJoint(const std::vector<EffectSpec>& effects, const std::vector<std::string>& joints) {
+  std::vector<EffectSpec> out;
+  for (const EffectSpec& e : effects) {
+    if (!IsJointEffect(e.kind) || !e.target.empty()) {
+      out.push_back(e);
+      continue;
+    }
+    for (const std::string& j : joints) {
+      EffectSpec one = e;
+      one.target = j;
+      one.text = std::string(ToString(e.kind)) + "@" + j;
+      out.push_back(one);
+    }
+  }
+  return out;
+}
+
+// `effects` with `candidate` added, replacing the dry-friction form it replaces (if any).
+std::vector<EffectSpec> WithCandidate(const std::vector<EffectSpec>& effects, const std::vector<std::string>& joints,
+                                      const EffectSpec& candidate, const std::optional<EffectSpec>& replaced) {
+  std::vector<EffectSpec> with = replaced ? PerJoint(effects, joints) : effects;
+  if (replaced) {
+    with.erase(std::remove_if(with.begin(), with.end(),
+                              [&](const EffectSpec& e) { return e.kind == replaced->kind && e.target == replaced->target; }),
+               with.end());
+  }
+  with.push_back(candidate);
+  return with;
+}
+
 // Every estimated body of the fit against its prior, both in the body's report frame.
 std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const JointNormalEquations& eq,
                                              const Eigen::VectorXd& x, const JointIdentificationOptions& options,
@@ -276,7 +316,7 @@ void FitFrictionShapes(const RobotModelFactory& make, const std::vector<EffectSp
   Eigen::MatrixXd H = eq.AtA;
   H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
   const Eigen::VectorXd w = H.ldlt().solve(eq.Atb);
-  if (!w.allFinite()) return;
+  if (!w.allFinite()) return;  // non-finite data: no shapes (the diagnosis refuses such data later)
   Eigen::MatrixXd residual(N, n);
   Eigen::MatrixXd A(n, model.num_features());
   TreeWorkspace workspace = model.MakeWorkspace();
@@ -284,6 +324,7 @@ void FitFrictionShapes(const RobotModelFactory& make, const std::vector<EffectSp
     model.Features(sub.q.row(i).transpose(), sub.qd.row(i).transpose(), sub.qdd.row(i).transpose(), &workspace, A);
     residual.row(i) = sub.tau.row(i) - (A * w).transpose();
   }
+  if (!residual.allFinite() || !sub.qd.allFinite()) return;
   for (int j = 0; j < n; ++j) {
     const std::string& joint = model.dof_names()[j];
     double best = 0.0;
@@ -335,31 +376,36 @@ JointSamples Rows(const JointSamples& data, int begin, int count) {
   return out;
 }
 
-// Per-joint statistics of a log, its samples split evenly over `threads` threads (sums of
-// per-sample terms: the split changes only the order of the additions).
+// Per-joint statistics of a log: blocks of kBlock samples, each accumulated by whichever thread is
+// free, summed in block order, so that the result does not depend on the number of threads (the
+// diagnosis's choices must not change with the machine). Each thread copies one block at a time.
 std::vector<JointNormalEquations> JointwiseInParallel(const RobotDynamics& model, const JointSamples& data, int threads) {
-  threads = std::max(1, std::min(threads, data.size() / 1000));
-  if (threads == 1) return AccumulateJointwiseNormalEquations(model, data);
-  std::vector<std::vector<JointNormalEquations>> parts(threads);
-  std::vector<std::exception_ptr> errors(threads);
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) {
-    const int begin = static_cast<int>(static_cast<long>(data.size()) * k / threads);
-    const int end = static_cast<int>(static_cast<long>(data.size()) * (k + 1) / threads);
-    pool.emplace_back([&, k, begin, end]() {
+  constexpr int kBlock = 4096;
+  const int blocks = std::max(1, (data.size() + kBlock - 1) / kBlock);
+  if (data.size() <= kBlock) return AccumulateJointwiseNormalEquations(model, data);
+  threads = std::max(1, std::min(threads, blocks));
+  std::vector<std::vector<JointNormalEquations>> parts(blocks);
+  std::vector<std::exception_ptr> errors(blocks);
+  std::atomic<int> next{0};
+  auto worker = [&]() {
+    for (int k = next++; k < blocks; k = next++) {
       try {
-        parts[k] = AccumulateJointwiseNormalEquations(model, Rows(data, begin, end - begin));
+        const int begin = k * kBlock, count = std::min(kBlock, data.size() - begin);
+        parts[k] = AccumulateJointwiseNormalEquations(model, Rows(data, begin, count));
       } catch (...) {
         errors[k] = std::current_exception();
       }
-    });
-  }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
   for (std::thread& t : pool) t.join();
   for (const std::exception_ptr& e : errors) {
     if (e) std::rethrow_exception(e);
   }
   std::vector<JointNormalEquations> sum = parts[0];
-  for (int k = 1; k < threads; ++k) {
+  for (int k = 1; k < blocks; ++k) {
     for (size_t j = 0; j < sum.size(); ++j) {
       sum[j].AtA += parts[k][j].AtA;
       sum[j].Atb += parts[k][j].Atb;
@@ -417,6 +463,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   }
   out.prior_tolerance = options.prior_tolerance;
   const RobotDynamics base = make(effects);
+  if (base.num_dofs() == 0) throw std::invalid_argument("diagnosis: the robot has no moving joint");
   if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
     throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
                                 std::to_string(static_cast<long>(train.size()) * base.num_dofs()) +
@@ -434,10 +481,28 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   Prepared local;
   Prepared& data = prepared != nullptr ? *prepared : local;
   if (!data.shapes_fitted) FitFrictionShapes(make, effects, options.joint_kinds, train, &data);
+  // The dry-friction form present on each joint (at most one is ever added; a user's list may
+  // hold more, and then no other is offered there).
+  std::map<std::string, EffectSpec> friction_of;
+  std::set<std::string> friction_stacked;
+  for (const EffectSpec& e : PerJoint(effects, base.dof_names())) {
+    if (!IsDryFriction(e.kind)) continue;
+    if (!friction_of.emplace(e.target, e).second) friction_stacked.insert(e.target);
+  }
   std::vector<EffectSpec> candidates;
+  std::vector<std::optional<EffectSpec>> replaces;  // per candidate: the friction form it replaces
   for (const std::string& joint : base.dof_names()) {
     for (EffectKind kind : options.joint_kinds) {
       if (!IsJointEffect(kind) || present.count({kind, joint}) > 0) continue;
+      std::optional<EffectSpec> replaced;
+      if (IsDryFriction(kind)) {
+        const auto it = friction_of.find(joint);
+        if (it != friction_of.end()) {
+          // Only a richer form replaces Coulomb's step; nothing replaces a richer form.
+          if (it->second.kind != EffectKind::kCoulomb || friction_stacked.count(joint) > 0) continue;
+          replaced = it->second;
+        }
+      }
       EffectSpec s;
       s.kind = kind;
       s.target = joint;
@@ -449,6 +514,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
         s = *shaped;
       }
       candidates.push_back(s);
+      replaces.push_back(replaced);
     }
   }
   // Payload candidates come after the model's fit (with free links, only on links it bends).
@@ -461,7 +527,10 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   };
   if (options.hold_links) {
     for (const std::string& link : payload_links) {
-      if (payloads_present.count(link) == 0) candidates.push_back(payload_candidate(link));
+      if (payloads_present.count(link) == 0) {
+        candidates.push_back(payload_candidate(link));
+        replaces.emplace_back();
+      }
     }
   }
 
@@ -541,6 +610,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
       if (out.links[e] && !out.plausibility[e].Within(options.prior_tolerance) && allowed.count(name) > 0 &&
           payloads_present.count(name) == 0) {
         candidates.push_back(payload_candidate(name));
+        replaces.emplace_back();
         payload_tests.insert(name);
       }
     }
@@ -590,9 +660,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   };
   std::vector<Job> jobs(candidates.size());
   for (size_t c = 0; c < candidates.size(); ++c) {
-    std::vector<EffectSpec> with = effects;
-    with.push_back(candidates[c]);
-    setup(jobs[c], with, base_x);
+    setup(jobs[c], WithCandidate(effects, base.dof_names(), candidates[c], replaces[c]), base_x);
   }
   RunJobs(jobs, train_eq, validation_eq, options.threads);
 
@@ -600,13 +668,15 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   rules.min_explained = options.min_explained;
   rules.min_gain = options.min_gain;
   rules.prior_tolerance = options.prior_tolerance;
-  auto judge = [&](const Job& job, const EffectSpec& spec, const TorqueErrors& without, double b_without,
-                   CandidateResult* r) {
+  // A replacement adds the parameters its form has beyond the one it replaces.
+  auto judge = [&](const Job& job, const EffectSpec& spec, const std::optional<EffectSpec>& replaced,
+                   const TorqueErrors& without, double b_without, CandidateResult* r) {
     r->validation = job.validation;
     r->plausibility = job.plausibility;
     r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
+    const int added = CandidateParameters(spec.kind) - (replaced ? CandidateParameters(replaced->kind) : 0);
     r->evidence = JudgeCandidate(without, job.validation, out.residual_tau, validation.size(), b_without,
-                                 r->implausibility, CandidateParameters(spec.kind),
+                                 r->implausibility, std::max(1, added),
                                  spec.kind == EffectKind::kSpring    ? PriorOdds::kRare
                                  : spec.kind == EffectKind::kPayload ? PriorOdds::kOrdinary
                                                                      : PriorOdds::kCommon,
@@ -620,7 +690,8 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
     r.spec = candidates[c];
     r.name = candidates[c].text;
     (candidates[c].kind == EffectKind::kPayload ? r.link : r.joint) = candidates[c].target;
-    judge(job, candidates[c], out.fit_validation, out.implausibility, &r);
+    if (replaces[c]) r.replaces = EffectItem(*replaces[c]);
+    judge(job, candidates[c], replaces[c], out.fit_validation, out.implausibility, &r);
     r.converged = job.fit.lm.converged();
     r.iterations = job.fit.lm.iterations;
     if (candidates[c].kind == EffectKind::kPayload) {
@@ -629,7 +700,11 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
       r.values.assign(pi.data(), pi.data() + 10);
       if (e < static_cast<int>(job.stds.size())) r.payload_std = job.stds[e];
     } else {
-      r.values = job.model->EffectValues(static_cast<int>(job.model->effects().size()) - 1, job.fit.x);
+      // The candidate's term: the one of its kind on its joint.
+      for (int k = 0; k < static_cast<int>(job.model->effects().size()); ++k) {
+        const EffectTerm& t = job.model->effects()[k];
+        if (t.kind == candidates[c].kind && t.joint == candidates[c].target) r.values = job.model->EffectValues(k, job.fit.x);
+      }
     }
     out.candidates.push_back(std::move(r));
     job_of.push_back(static_cast<int>(c));
@@ -651,19 +726,30 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
     const std::unordered_map<std::string, double> top_x = named(*top_job.model, top_job.fit.x);
     std::vector<int> others;
     for (size_t k = 1; k < order.size() && out.candidates[order[k]].evidence.suggested(); ++k) others.push_back(order[k]);
-    std::vector<Job> pairs(others.size());
-    for (size_t k = 0; k < others.size(); ++k) {
-      std::vector<EffectSpec> with = effects;
-      with.push_back(out.candidates[top].spec);
-      with.push_back(out.candidates[others[k]].spec);
-      setup(pairs[k], with, top_x);
+    // Two dry-friction forms of one joint are alternatives by construction (one slot per joint).
+    const EffectSpec& top_spec = out.candidates[top].spec;
+    const std::optional<EffectSpec>& top_replaces = replaces[job_of[top]];
+    const std::vector<EffectSpec> with_top = WithCandidate(effects, base.dof_names(), top_spec, top_replaces);
+    std::vector<int> refit;
+    for (int other : others) {
+      const EffectSpec& o = out.candidates[other].spec;
+      if (IsDryFriction(o.kind) && IsDryFriction(top_spec.kind) && o.target == top_spec.target) {
+        out.candidates[other].alternative_to = out.candidates[top].name;
+      } else {
+        refit.push_back(other);
+      }
+    }
+    std::vector<Job> pairs(refit.size());
+    for (size_t k = 0; k < refit.size(); ++k) {
+      setup(pairs[k], WithCandidate(with_top, base.dof_names(), out.candidates[refit[k]].spec, replaces[job_of[refit[k]]]),
+            top_x);
     }
     RunJobs(pairs, train_eq, validation_eq, options.threads);
-    for (size_t k = 0; k < others.size(); ++k) {
+    for (size_t k = 0; k < refit.size(); ++k) {
       CandidateResult together;
-      judge(pairs[k], out.candidates[others[k]].spec, out.candidates[top].validation, out.candidates[top].implausibility,
-            &together);
-      if (!together.evidence.suggested()) out.candidates[others[k]].alternative_to = out.candidates[top].name;
+      judge(pairs[k], out.candidates[refit[k]].spec, replaces[job_of[refit[k]]], out.candidates[top].validation,
+            out.candidates[top].implausibility, &together);
+      if (!together.evidence.suggested()) out.candidates[refit[k]].alternative_to = out.candidates[top].name;
     }
     std::stable_partition(order.begin(), order.end(), [&](int i) {
       return out.candidates[i].evidence.suggested() && out.candidates[i].alternative_to.empty();
@@ -690,6 +776,13 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
 
 }  // namespace
 
+std::vector<EffectSpec> EffectsWithCandidate(const std::vector<EffectSpec>& effects,
+                                             const std::vector<std::string>& joints, const CandidateResult& candidate) {
+  std::optional<EffectSpec> replaced;
+  if (!candidate.replaces.empty()) replaced = ParseEffectList(candidate.replaces).at(0);
+  return WithCandidate(effects, joints, candidate.spec, replaced);
+}
+
 JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
                                   const std::vector<std::string>& payload_links, const JointSamples& train,
                                   const JointSamples& validation, const JointDiagnosisOptions& options) {
@@ -715,7 +808,8 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
     s.before = d.fit_validation;
     s.implausibility_before = d.implausibility;
     s.bent_before = BentLinks(d);
-    current.push_back(top.spec);
+    s.replaced = top.replaces;
+    current = EffectsWithCandidate(current, make({}).dof_names(), top);
     d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
     s.after = d.fit_validation;
     s.implausibility_after = d.implausibility;

@@ -186,7 +186,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
   const double gamma = options.prior_weight;
   Eigen::MatrixXd J_w, AtA_J;
   // J_w is block diagonal up to row placement (RobotDynamics::Coefficients): a 10 x 10 block per
-  // body at its tree body's features, a 1 x 1 (spring: 2 x 2) block per effect term. H = J_w^T A^T A
+  // body at its tree body's features, a 1 x 1 (spring, asymmetric: 2 x 2) block per effect term. H = J_w^T A^T A
   // J_w block by block costs 4 F P * 10 flops instead of the dense product's 2 F P (F + P).
   struct Block {
     int row, col, rows, cols;

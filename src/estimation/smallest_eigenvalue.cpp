@@ -55,7 +55,7 @@ double SmallestEigenvalue(const Eigen::MatrixXd& S, double relative_tolerance) {
     if (mid <= lo || mid >= hi) break;
     (CountBelow(d, e, mid, tiny) >= 1 ? hi : lo) = mid;
   }
-  return relative_tolerance > 0.0 ? lo : 0.5 * (lo + hi);
+  return lo;
 }
 
 }  // namespace inertial

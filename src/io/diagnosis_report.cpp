@@ -288,6 +288,15 @@ std::string CandidateExplanation(const JointDiagnosisContext& c, const Candidate
       return "the " + j + " residual grows with position (" + F(coefficient(kPosition)) + " N m/rad): a spring k = " +
              F(r.values[0]) + " N m/rad about q0 = " + F(r.values.size() > 1 ? r.values[1] : 0.0) +
              " rad (cable, hose, gravity compensator) is missing";
+    case EffectKind::kAsymmetric:
+      return "the " + j + " residual steps by different amounts in the two directions: dry friction of " +
+             F(r.values[0]) + " N m for positive velocity and " + F(r.values.size() > 1 ? r.values[1] : 0.0) +
+             " N m for negative (over " + F(r.spec.velocity_scale) + " rad/s) is missing" +
+             (r.replaces.empty() ? "" : ", in place of " + r.replaces);
+    case EffectKind::kSigmoid:
+      return "the " + j + " residual rises like a sigmoid of the velocity (steepness " + F(r.spec.steepness) +
+             " s/rad, shifted by " + F(r.spec.shift) + " rad/s, as Gaz et al. found on the Franka Panda): friction of amplitude " +
+             F(r.values[0]) + " N m is missing" + (r.replaces.empty() ? "" : ", in place of " + r.replaces);
     default: return r.name;
   }
 }
@@ -365,12 +374,11 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   if (d.num_suggestions > 0) {
     out << "\nNext: add the top suggestion (--effects ";
     bool first = true;
-    for (const EffectSpec& e : d.effects) {
+    for (const EffectSpec& e : EffectsWithCandidate(d.effects, model.dof_names(), d.candidates[0])) {
       out << (first ? "" : ",") << (e.inertia ? e.text : EffectItem(e));
       first = false;
     }
-    out << (first ? "" : ",") << EffectItem(d.candidates[0].spec)
-        << ") and run again: what it explained leaves the ranking, what remains is ranked anew.\n";
+    out << ") and run again: what it explained leaves the ranking, what remains is ranked anew.\n";
   }
   bool consistent = true;
   BodiesJson(model, d.fit.x, &consistent);
@@ -395,6 +403,10 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
   }
   j["rms_train"] = PerJointJson(model, d.fit_train.rms, d.fit_train.total_rms);
   j["effects"] = EffectsJson(model, d.fit.x);
+  // The diagnosed model's effects as --effects takes them (after --iterate: the loop's choice).
+  std::string items;
+  for (const EffectSpec& e : d.effects) items += (items.empty() ? "" : ",") + (e.inertia ? e.text : EffectItem(e));
+  j["model_effects"] = items;
   bool consistent = true;
   j["bodies"] = BodiesJson(model, d.fit.x, &consistent);
   j["physically_consistent"] = consistent;
@@ -410,6 +422,7 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
     if (!r.link.empty()) s["link"] = r.link;
     s["name"] = r.name;
     s["item"] = EffectItem(r.spec);
+    if (!r.replaces.empty()) s["replaces"] = r.replaces;
     s["rms_validation_after"] = PerJointJson(model, r.validation.rms, r.validation.total_rms);
     s["explained"] = r.explained;
     s["explanation"] = i < d.num_suggestions ? CandidateExplanation(c, r)
@@ -453,7 +466,7 @@ std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const Join
   if (path.empty()) out << "  none: nothing was suggested\n";
   for (size_t i = 0; i < path.size(); ++i) {
     const DiagnosisStep& s = path[i];
-    out << "  " << i + 1 << ". added " << s.item << " (" << Evidence(s.evidence) << ")\n"
+    out << "  " << i + 1 << ". added " << s.item << (s.replaced.empty() ? "" : " in place of " + s.replaced) << " (" << Evidence(s.evidence) << ")\n"
         << "     held-out RMS " << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms)
         << ") -> " << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n"
         << "     links' implausibility " << F(s.implausibility_before, "%.3g") << " -> "
@@ -471,6 +484,7 @@ nlohmann::json DiagnosisPathJson(const RobotDynamics& model, const std::vector<D
   for (const DiagnosisStep& s : path) {
     j.push_back({{"added", s.added},
                  {"item", s.item},
+                 {"replaced", s.replaced},
                  {"explained", s.explained},
                  {"significance", s.evidence.significance},
                  {"restored", s.evidence.restored},

@@ -309,7 +309,16 @@ nlohmann::json EffectsJson(const RobotDynamics& model, const Eigen::VectorXd& x)
     const std::vector<std::string> names = EffectValueNames(t.kind);
     nlohmann::json values = nlohmann::json::object();
     for (size_t i = 0; i < v.size(); ++i) values[names[i]] = v[i];
-    effects.push_back({{"effect", std::string(ToString(t.kind))}, {"joint", t.joint}, {"values", values}});
+    EffectSpec spec;
+    spec.kind = t.kind;
+    spec.target = t.joint;
+    spec.velocity_scale = t.velocity_scale;
+    spec.steepness = t.steepness;
+    spec.shift = t.shift;
+    effects.push_back({{"effect", std::string(ToString(t.kind))},
+                       {"joint", t.joint},
+                       {"item", EffectItem(spec)},
+                       {"values", values}});
   }
   return effects;
 }

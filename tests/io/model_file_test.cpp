@@ -86,7 +86,9 @@ TEST(ModelFile, EveryEffectKindRoundTripsToTheSamePredictions) {
     if (t.kind == EffectKind::kCoulomb) {
       EXPECT_EQ(t.velocity_scale, 0.05);
     }
-    if (t.kind == EffectKind::kAsymmetric) EXPECT_EQ(t.velocity_scale, 0.03);
+    if (t.kind == EffectKind::kAsymmetric) {
+      EXPECT_EQ(t.velocity_scale, 0.03);
+    }
     if (t.kind == EffectKind::kSigmoid) {
       EXPECT_EQ(t.steepness, 35.0);
       EXPECT_EQ(t.shift, -0.02);

@@ -195,7 +195,7 @@ TEST(DiagnoseCli, KukaLwr4IteratedSuggestionsMatchTheHandPickedModel) {
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_GE(j["path"].size(), 3u);
   EXPECT_LT(j["path"].size(), 40u) << "it should stop by itself";
-  std::string chosen;
+  std::string path;
   for (const nlohmann::json& step : j["path"]) {
     // Each step lowers the held-out error, or restores at least half of the links' plausibility
     // without raising the held-out mean-square error (averaged over joints) by the 2 % a suggestion
@@ -204,8 +204,10 @@ TEST(DiagnoseCli, KukaLwr4IteratedSuggestionsMatchTheHandPickedModel) {
     EXPECT_TRUE(after < before ||
                 (step["restored"].get<double>() >= 0.5 && step["explained"].get<double>() > -0.02))
         << step["added"] << " " << before << " -> " << after << " explained " << step["explained"];
-    chosen += (chosen.empty() ? "" : ",") + step["item"].get<std::string>();
+    path += step["item"].get<std::string>() + " ";
   }
+  // The loop's model: the steps' items, a richer friction form in place of a joint's Coulomb step.
+  const std::string chosen = j["model_effects"].get<std::string>();
   EXPECT_TRUE(j["suggestions"].empty());
   EXPECT_TRUE(j["physically_consistent"].get<bool>());
   EXPECT_FALSE(j["stop_reason"].get<std::string>().empty());

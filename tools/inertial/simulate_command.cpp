@@ -37,7 +37,7 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
   sub->add_option("--effects", c->effects, "effects in the true robot (syntax of identify --effects)");
   sub->add_option("--effect-values", c->effect_values,
                   "true coefficients, one per effect term in list order (an effect without @ gives one term per "
-                  "joint; spring takes k then k q0), cycled if fewer; default 0.1 each")
+                  "joint; spring takes k then k q0, asymmetric bp then bn), cycled if fewer; default 0.1 each")
       ->default_val("0.1");
   sub->add_option("--perturb", c->perturb,
                   "true bodies: every log-Cholesky theta (relative to the URDF prior) uniform in [-P, P]; 0: the URDF")

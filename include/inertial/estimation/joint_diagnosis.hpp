@@ -14,7 +14,12 @@
 /// top one (refitted together, the pair is not supported over the top one alone) is marked as an
 /// alternative to it and not suggested: both explain the same residual or the same bent link.
 ///
-/// Catalog: viscous, coulomb, offset, armature and spring on each joint; payloads on links.
+/// Catalog: viscous, coulomb, offset, armature and spring on each joint, and the asymmetric and
+/// sigmoid friction forms where a joint's residual shows them (friction_shape.hpp fits the shape of
+/// each dry-friction form first); payloads on links. One dry-friction form per joint: asymmetric or
+/// sigmoid replaces a Coulomb step the model has on that joint (CandidateResult::replaces).
+/// The candidate's judged parameters are its coefficients plus its fitted shape, less those of the
+/// form it replaces.
 ///
 /// Links and payloads: a payload rigidly fixed to a link is the same, to the data, as a change of
 /// that link's inertia. With free links (the default), a link whose identified body departs from
@@ -26,7 +31,8 @@
 /// Repeats: when the held-out data retrace the training trajectory (trajectory_overlap.hpp), a note
 /// says that they cannot reveal overfitting.
 ///
-/// Cost: the data enter once, through A^T A of a model holding every candidate (training) and
+/// Cost: the data enter once (and a subsample of at most 4000 training samples once more, for the
+/// friction shapes), through A^T A of a model holding every candidate (training) and
 /// per-joint A^T A (validation), plus one pass over the held-out samples for the noise's correlation
 /// time; each candidate then costs one fit on those statistics, warm-started from the model's own
 /// fit, and, where some link departs beyond the tolerance, one uncertainty decomposition (P x P);
@@ -90,6 +96,9 @@ struct CandidateResult {
   std::string name;        ///< e.g. "coulomb@knee", "payload@tool0"
   std::string joint;       ///< the joint of a joint effect, else empty
   std::string link;        ///< the link of a payload, else empty
+  /// A richer dry-friction form replaces the joint's Coulomb step (one form per joint): the
+  /// replaced term as an --effects item; empty when the candidate is added.
+  std::string replaces;
   TorqueErrors validation;  ///< of the model with the candidate, on held-out data
   double explained = 0.0;   ///< see the file comment (may be negative: it made things worse)
   bool converged = false;
@@ -134,10 +143,16 @@ JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vect
                                   const std::vector<std::string>& payload_links, const JointSamples& train,
                                   const JointSamples& validation, const JointDiagnosisOptions& options = {});
 
+/// The model's effects once `candidate` is taken: added, or in place of the dry-friction form it
+/// replaces (effects stated for every joint are then written out per joint).
+std::vector<EffectSpec> EffectsWithCandidate(const std::vector<EffectSpec>& effects,
+                                             const std::vector<std::string>& joints, const CandidateResult& candidate);
+
 /// One step of IterateJointDiagnosis: the effect added and the held-out errors before and after.
 struct DiagnosisStep {
   std::string added;                ///< e.g. "coulomb@knee"
   std::string item;                 ///< as --effects takes it, e.g. "coulomb@knee:scale=0.0125"
+  std::string replaced;             ///< the item it replaced (a joint's Coulomb step), or empty
   double explained = 0.0;           ///< the held-out share it removed when it was added
   CandidateEvidence evidence;       ///< how it was judged
   TorqueErrors before, after;       ///< held-out, of the model without and with it

@@ -2,9 +2,9 @@
 /// The smallest eigenvalue of a symmetric matrix, without the others.
 ///
 /// Levenberg-Marquardt on a Newton Hessian (dense_levenberg_marquardt.hpp) needs, when the damped
-/// matrix is not positive definite, just the smallest eigenvalue, to damp just enough. A full
-/// symmetric eigensolver spends most of its time on the QR iterations that find every eigenvalue.
-/// Here: Householder tridiagonalization T = Q^T S Q (Eigen::Tridiagonalization), then bisection on
+/// matrix is not positive definite, just the smallest eigenvalue, to damp just enough (and never
+/// too little: a lower bound). A full symmetric eigensolver finds every eigenvalue by QR
+/// iterations after the same reduction. Here: Householder tridiagonalization T = Q^T S Q (Eigen::Tridiagonalization), then bisection on
 /// the Sturm sequence of T (the number of negative pivots of the LDL^T factorization of T - x I is
 /// the number of eigenvalues below x; Golub and Van Loan, Matrix Computations, 4th ed., 8.4.1),
 /// starting from T's Gershgorin interval and stopping at the resolution of doubles. O(n^3) for the

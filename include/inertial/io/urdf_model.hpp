@@ -36,6 +36,8 @@
 ///       <offset joint="J" torque="c"/>                     [N m]
 ///       <armature joint="J" inertia="Ia"/>                 [kg m^2]
 ///       <spring joint="J" stiffness="k" rest_position="q0"/>
+///       <asymmetric joint="J" velocity_scale="v_s" positive="bp" negative="bn"/>   [N m]
+///       <sigmoid joint="J" amplitude="p1" steepness="p2" shift="p3"/>               [N m, s/rad, rad/s]
 ///       <rotor joint="J" gear_ratio="N"><inertial>...</inertial></rotor>
 ///       <payload link="L"><inertial>...</inertial></payload>
 ///     </inertial_effects>
