@@ -41,6 +41,10 @@ IdentifiabilityReport AnalyzeIdentifiability(const Eigen::MatrixXd& AtA, const s
   if (AtA.cols() != P || static_cast<int>(names.size()) != P) {
     throw std::invalid_argument("identifiability: A^T A must be square with one name per column");
   }
+  if (!AtA.allFinite()) {
+    // NaN would leave every direction without a term (and the analysis meaningless).
+    throw std::invalid_argument("identifiability: A^T A has entries that are not finite numbers");
+  }
   IdentifiabilityReport report;
   report.num_parameters = P;
   // Column scaling D = diag(1/||a_k||); zero columns stay zero.
@@ -86,6 +90,7 @@ IdentifiabilityReport AnalyzeIdentifiability(const Eigen::MatrixXd& AtA, const s
     for (int k = 0; k < P; ++k) {
       if (std::abs(V(i, k)) > 1e-6) dir.terms.emplace_back(names[k], V(i, k));
     }
+    if (dir.terms.empty()) continue;  // every entry below 1e-6 (the pivot's is 1: cannot happen with finite V)
     std::stable_sort(dir.terms.begin() + 1, dir.terms.end(),
                      [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
     dir.description = Describe(dir.terms);

@@ -1,6 +1,8 @@
 #include "inertial/estimation/recursive_estimator.hpp"
 
+#include <Eigen/Cholesky>
 #include <cmath>
+#include <string>
 
 namespace inertial {
 
@@ -51,7 +53,44 @@ bool RecursiveEstimator::Restore(const EstimatorState& state, std::string* why) 
     if (why != nullptr) *why = "the state holds non-finite numbers";
     return false;
   }
+  // A restored state is checked as strictly as a sample: one that would make every later sample
+  // fail (a time far in the future, a covariance no update can use, a body beyond any physical
+  // scale) would wedge the estimator and be written back at every checkpoint.
+  if (state.has_time && !(std::abs(state.last_time) <= kMaxStateTime)) {
+    if (why != nullptr) {
+      *why = "its last sample time " + std::to_string(state.last_time) + " s is beyond " + std::to_string(kMaxStateTime) +
+             " s (every later sample would be out of order)";
+    }
+    return false;
+  }
+  if (state.P.size() > 0) {
+    if (state.P.rows() != state.P.cols() || !state.P.allFinite()) {
+      if (why != nullptr) *why = "its covariance is not a square matrix of finite numbers";
+      return false;
+    }
+    const double scale = state.P.cwiseAbs().maxCoeff();
+    if (!((state.P - state.P.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale)) {
+      if (why != nullptr) *why = "its covariance is not symmetric";
+      return false;
+    }
+    if (Eigen::LLT<Eigen::MatrixXd>(state.P).info() != Eigen::Success || !(scale > 0)) {
+      if (why != nullptr) *why = "its covariance is not positive definite";
+      return false;
+    }
+  }
+  const EstimatorState before = State();
   if (!SetParameters(state.x, state.P, why)) return false;
+  Eigen::VectorXd w(num_features_);
+  Coefficients(w);
+  if (!w.allFinite() || !(w.cwiseAbs().maxCoeff() <= kMaxStateCoefficient)) {
+    std::string ignored;
+    SetParameters(before.x, before.P, &ignored);  // back to what it was: nothing changes
+    if (why != nullptr) {
+      *why = "its parameters give coefficients (masses, moments, friction) beyond " + std::to_string(kMaxStateCoefficient) +
+             " in SI units or not finite: outside the parameterization's useful range";
+    }
+    return false;
+  }
   has_time_ = state.has_time;
   last_time_ = state.last_time;
   counters_ = state.counters;

@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <optional>
-#include <set>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
+
+#include <unistd.h>
 
 #include "inertial/io/uncertainty_report.hpp"
 #include "inertial/estimate_t.hpp"
@@ -18,6 +20,7 @@
 #include "inertial/io/body_message.hpp"
 #include "inertial/io/bounded_queue.hpp"
 #include "inertial/io/estimator_state_file.hpp"
+#include "inertial/io/lcm_log_check.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 #include "inertial/residual_t.hpp"
 
@@ -187,6 +190,9 @@ void CheckOptions(const DaemonOptions& o) {
   if (!(o.publish_rate_hz > 0) || !(o.residual_window_s > 0) || !(o.checkpoint_interval_s > 0) || o.queue_capacity == 0) {
     throw std::invalid_argument("inertiald: rates, window, interval and queue capacity must be positive");
   }
+  CheckLcmChannelName(o.input_channel, "inertiald: the input channel");
+  CheckLcmChannelName(o.estimate_channel, "inertiald: the estimate channel");
+  if (!o.residual_channel.empty()) CheckLcmChannelName(o.residual_channel, "inertiald: the residual channel");
 }
 
 }  // namespace
@@ -235,24 +241,49 @@ void EstimationDaemon::Start(int num_channels) {
   }
   window_sum_ = window_rms_ = Eigen::VectorXd::Zero(num_channels);
   RecursiveEstimator& est = body_ ? body_->estimator() : estimator_->estimator();
+  if (!options_.checkpoint_path.empty()) {
+    const std::filesystem::path path(options_.checkpoint_path);
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' is a directory, not a file");
+    }
+    // Refused now rather than failing at every interval: the directory must take new files.
+    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK | X_OK) != 0) {
+      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "': cannot write files in '" + dir.string() +
+                               "' (" + (std::filesystem::exists(dir, ec) ? "permission denied" : "no such directory") +
+                               ")");
+    }
+  }
   if (!options_.checkpoint_path.empty() && std::filesystem::exists(options_.checkpoint_path)) {
-    try {
-      std::string description;
-      const EstimatorState state = LoadEstimatorState(options_.checkpoint_path, &description);
-      std::string why;
-      if (description != Description()) {
-        Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " is of another model or estimator (" +
-                                 description + "); starting from the priors");
-      } else if (!est.Restore(state, &why)) {
-        Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " not restored: " + why);
-      } else {
-        restored_ = true;
-        Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" +
-                                 std::to_string(state.counters.accepted()) + " samples, last at t = " +
-                                 std::to_string(state.last_time) + " s)");
+    // Not restored: refuse to start (the file is left as it is) unless told to start afresh.
+    auto unusable = [&](const std::string& why) {
+      if (!options_.start_fresh) {
+        throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' " + why +
+                                 "; it is left untouched: give another path, or --fresh to start from the priors and "
+                                 "overwrite it");
       }
+      Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " " + why +
+                               "; starting from the priors (--fresh): it will be overwritten");
+    };
+    std::string description;
+    std::optional<EstimatorState> state;
+    try {
+      state = LoadEstimatorState(options_.checkpoint_path, &description);
     } catch (const std::exception& e) {
-      Log(LogLevel::kWarn, std::string("checkpoint unreadable, starting from the priors: ") + e.what());
+      unusable(std::string("is not a checkpoint this daemon can read (") + e.what() + ")");
+    }
+    std::string why;
+    if (!state) {
+      // already reported
+    } else if (description != Description()) {
+      unusable("is a checkpoint of another model or estimator (" + description + ")");
+    } else if (!est.Restore(*state, &why)) {
+      unusable("cannot be restored: " + why);
+    } else {
+      restored_ = true;
+      Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" + std::to_string(state->counters.accepted()) +
+                               " samples, last at t = " + std::to_string(state->last_time) + " s)");
     }
   }
   if (!impl_->bus) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());

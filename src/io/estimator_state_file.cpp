@@ -3,9 +3,13 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace inertial {
 namespace {
@@ -41,7 +45,7 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a parse error, or a number that overflows (1e400)
     throw StateFileError(source + ": not an estimator state: " + e.what());
   }
   try {
@@ -70,8 +74,15 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
     s.has_time = j.at("has_time").get<bool>();
     s.last_time = j.at("last_time").get<double>();
     const auto& counters = j.at("counters");
+    if (!counters.is_object()) throw StateFileError(source + ": \"counters\" is not an object");
     for (int k = 0; k < kNumUpdateStatuses; ++k) {
-      s.counters.count[k] = counters.value(std::string(ToString(static_cast<UpdateStatus>(k))), std::uint64_t{0});
+      const std::string name(ToString(static_cast<UpdateStatus>(k)));
+      if (!counters.contains(name)) continue;
+      if (!counters.at(name).is_number_unsigned()) {
+        throw StateFileError(source + ": counter \"" + name + "\" is " + counters.at(name).dump() +
+                             ", not a non-negative integer");
+      }
+      s.counters.count[k] = counters.at(name).get<std::uint64_t>();
     }
     return s;
   } catch (const nlohmann::json::exception& e) {
@@ -80,16 +91,39 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
 }
 
 void SaveEstimatorState(const std::string& path, const EstimatorState& state, const std::string& model_description) {
+  // Written to a temporary file, flushed to the disk (fsync), renamed over the target, and the
+  // directory flushed too: a kill leaves the old or the new state, and so does a power cut.
   const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw StateFileError(tmp + ": cannot write the estimator state: " + std::strerror(errno));
-    out << EstimatorStateToJson(state, model_description);
-    out.flush();
-    if (!out) throw StateFileError(tmp + ": cannot write the estimator state: " + std::strerror(errno));
+  const std::string text = EstimatorStateToJson(state, model_description);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw StateFileError(tmp + ": cannot write the estimator state: " + std::strerror(errno));
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw StateFileError(tmp + ": cannot write the estimator state: " + why);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw StateFileError(tmp + ": cannot flush the estimator state to disk: " + why);
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    throw StateFileError(path + ": cannot replace the estimator state: " + std::strerror(errno));
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw StateFileError(path + ": cannot replace the estimator state: " + why);
+  }
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);  // the rename itself on disk; a file system that cannot sync a directory still has the file
+    ::close(dir);
   }
 }
 

@@ -1,5 +1,7 @@
 #include "inertial/io/log_replay.hpp"
 
+#include "inertial/io/lcm_log_check.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -160,6 +162,9 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
       feed(s);
     }
   } else {
+    CheckLcmChannelName(options.channel, "--channel");
+    if (!options.estimate_channel.empty()) CheckLcmChannelName(options.estimate_channel, "--estimate-channel");
+    CheckLcmLog(path);  // every event header against the bytes left, before liblcm trusts them
     lcm::LogFile log(path, "r");
     if (!log.good()) throw std::runtime_error("cannot open the LCM log '" + path + "'");
     JointMessageDecoder decoder(options.format, model.dof_names());

@@ -10,10 +10,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 
 #include "inertial/inertia/consistency.hpp"
+#include "inertial/io/number_parsing.hpp"
 #include "urdf_effects.hpp"
 #include "xml_error.hpp"
 
@@ -78,6 +80,62 @@ struct FileOrder {
   std::vector<std::string> joints;
 };
 
+// The numeric attributes of the elements urdfdom reads, with how many numbers each holds (0: one
+// or more, as a mesh's scale may be given).
+const std::map<std::string, std::map<std::string, int>>& NumericAttributes() {
+  static const std::map<std::string, std::map<std::string, int>> table = {
+      {"origin", {{"xyz", 3}, {"rpy", 3}}},
+      {"mass", {{"value", 1}}},
+      {"inertia", {{"ixx", 1}, {"ixy", 1}, {"ixz", 1}, {"iyy", 1}, {"iyz", 1}, {"izz", 1}}},
+      {"axis", {{"xyz", 3}}},
+      {"limit", {{"lower", 1}, {"upper", 1}, {"effort", 1}, {"velocity", 1}}},
+      {"dynamics", {{"damping", 1}, {"friction", 1}}},
+      {"safety_controller", {{"soft_lower_limit", 1}, {"soft_upper_limit", 1}, {"k_position", 1}, {"k_velocity", 1}}},
+      {"calibration", {{"rising", 1}, {"falling", 1}, {"reference_position", 1}}},
+      {"mimic", {{"multiplier", 1}, {"offset", 1}}},
+      {"box", {{"size", 3}}},
+      {"cylinder", {{"radius", 1}, {"length", 1}}},
+      {"sphere", {{"radius", 1}}},
+      {"capsule", {{"radius", 1}, {"length", 1}}},
+      {"mesh", {{"scale", 3}}},
+      {"color", {{"rgba", 4}}},
+  };
+  return table;
+}
+
+// Checks the subtree of an element urdfdom reads before urdfdom sees it: urdfdom (through
+// console_bridge) hands some attribute text to a printf-style logger as the format itself, so a
+// '%' in it reads or writes memory. No attribute there may hold a '%', and every numeric attribute
+// must hold exactly its finite numbers (number_parsing.hpp); anything else is refused naming the
+// file, the element (with its line) and the attribute.
+void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source) {
+  const std::string where = source + ": <" + std::string(e.Name()) + "> (line " + std::to_string(e.GetLineNum()) + ")";
+  const auto numeric = NumericAttributes().find(e.Name());
+  for (const tinyxml2::XMLAttribute* a = e.FirstAttribute(); a != nullptr; a = a->Next()) {
+    const std::string value = a->Value();
+    if (value.find('%') != std::string::npos) {
+      throw UrdfError(where + ": attribute '" + a->Name() + "' holds a '%', which no URDF value needs");
+    }
+    if (numeric == NumericAttributes().end()) continue;
+    const auto count = numeric->second.find(a->Name());
+    if (count == numeric->second.end()) continue;
+    std::vector<double> numbers;
+    try {
+      const std::string what = std::string("attribute '") + a->Name() + "'";
+      numbers = count->second == 1 ? std::vector<double>{ParseDouble(value, what)} : ParseNumberList(value, what);
+    } catch (const InvalidNumber& err) {
+      throw UrdfError(where + ": " + err.what());
+    }
+    if (static_cast<int>(numbers.size()) != count->second) {
+      throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + std::to_string(numbers.size()) +
+                      " numbers, " + std::to_string(count->second) + " expected");
+    }
+  }
+  for (const tinyxml2::XMLElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+    ValidateForUrdfdom(*c, source);
+  }
+}
+
 FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
@@ -88,6 +146,15 @@ FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
     throw UrdfError(source + ": is not a valid URDF: the root element is " +
                     (robot == nullptr ? std::string("missing") : "<" + std::string(robot->Name()) + ">") +
                     ", not <robot>");
+  }
+  for (const tinyxml2::XMLAttribute* a = robot->FirstAttribute(); a != nullptr; a = a->Next()) {
+    if (std::string(a->Value()).find('%') != std::string::npos) {
+      throw UrdfError(source + ": <robot> attribute '" + a->Name() + "' holds a '%', which no URDF value needs");
+    }
+  }
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string name = e->Name();
+    if (name == "link" || name == "joint" || name == "material") ValidateForUrdfdom(*e, source);
   }
   FileOrder order;
   for (const tinyxml2::XMLElement* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {

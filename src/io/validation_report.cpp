@@ -42,11 +42,11 @@ void LeaveOutNonFinite(ModelValidation* v) {
     const int i = bad[k];
     std::string what = "the model's prediction";
     for (int j = 0; j < s.tau.cols(); ++j) {
-      if (!std::isfinite(s.tau(i, j))) what = "tau_" + v->channels[j];
+      if (!(std::abs(s.tau(i, j)) < kLargestSquarable)) what = "tau_" + v->channels[j];
       if (!std::isfinite(s.qd(i, j))) what = "qd_" + v->channels[j];
     }
     v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + F(s.t[i], "%.10g") + " s): " + what +
-                                  " is not finite");
+                                  " is not finite or too large to square");
   }
   if (static_cast<int>(bad.size()) == s.size()) {
     throw std::invalid_argument("no sample gives a finite prediction (first: " + v->left_out_reasons.front() +
@@ -71,11 +71,17 @@ void LeaveOutNonFinite(ModelValidation* v) {
 
 std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data) {
   std::vector<int> rows;
+  const int n = static_cast<int>(data.tau.cols());
   for (int i = 0; i < data.size(); ++i) {
-    if (!predicted.row(i).allFinite() || !data.q.row(i).allFinite() || !data.qd.row(i).allFinite() ||
-        !data.qdd.row(i).allFinite() || !data.tau.row(i).allFinite() || !std::isfinite(data.t[i])) {
-      rows.push_back(i);
+    bool bad = !predicted.row(i).allFinite() || !data.q.row(i).allFinite() || !data.qd.row(i).allFinite() ||
+               !data.qdd.row(i).allFinite() || !data.tau.row(i).allFinite() || !std::isfinite(data.t[i]);
+    // A torque or an error whose square overflows (1e300 from a glitch) would make the RMS inf
+    // and the relative error NaN.
+    for (int c = 0; c < predicted.cols() && n > 0 && !bad; ++c) {
+      bad = !(std::abs(data.tau(i, c % n)) < kLargestSquarable) ||
+            !(std::abs(predicted(i, c) - data.tau(i, c % n)) < kLargestSquarable);
     }
+    if (bad) rows.push_back(i);
   }
   return rows;
 }

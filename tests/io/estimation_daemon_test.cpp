@@ -16,8 +16,10 @@
 #include "inertial/io/body_message.hpp"
 #include "inertial/io/bounded_queue.hpp"
 #include "inertial/io/estimation_daemon.hpp"
+#include "inertial/io/estimator_state_file.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 #include "inertial/io/identification_report.hpp"
+#include "io/urdf_text.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -272,13 +274,89 @@ TEST(EstimationDaemon, CheckpointRestoresTheState) {
   EXPECT_TRUE(again.restored_from_checkpoint());
   EXPECT_EQ(again.estimator().estimator().parameters(), x_first);
   EXPECT_EQ(again.estimator().estimator().counters().accepted(), 500u);
-  // A checkpoint of another model is refused with a warning, not restored.
-  std::vector<std::string> log;
+  // A checkpoint of another model or estimator stops the start and is left untouched; with
+  // start_fresh the daemon starts from the priors (and would overwrite it).
+  const std::string saved = testing::ReadTextFile(checkpoint);
   DaemonOptions other = o;
   other.estimator.kind = EstimatorKind::kGradient;
+  try {
+    EstimationDaemon gradient(MakeRobotDynamics(s.robot, {}), other);
+    ADD_FAILURE() << "a checkpoint of another estimator was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("another model or estimator"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--fresh"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(testing::ReadTextFile(checkpoint), saved);
+  other.start_fresh = true;
   EstimationDaemon gradient(MakeRobotDynamics(s.robot, {}), other);
   EXPECT_FALSE(gradient.restored_from_checkpoint());
   fs::remove(checkpoint);
+}
+
+// What once wedged the daemon or lost a file: a URDF, an empty file, random bytes or a state that
+// cannot be restored as the checkpoint stop the start, naming why, and stay as they were; a
+// directory or a path in a missing directory is refused at start.
+TEST(EstimationDaemon, CheckpointsThatCannotBeRestoredStopTheStartAndAreKept) {
+  const Stream& s = LegStream();
+  const std::string urdf_text = testing::ReadTextFile(testing::Example("leg3.urdf"));
+  struct Case {
+    std::string name, content, expected;
+  };
+  const std::string state_head =
+      "{\"format\": \"inertial-estimator-state\", \"version\": 1, \"kind\": \"gauss_newton\", \"model\": \"x\", ";
+  const Case cases[] = {
+      {"robot.urdf", urdf_text, "not a checkpoint this daemon can read"},
+      {"empty.json", "", "not a checkpoint this daemon can read"},
+      {"random.bin", std::string("\x13\x9f\x00\xfe garbage", 14), "not a checkpoint this daemon can read"},
+      {"overflow.json", state_head + "\"x\": [1e400]}", "not a checkpoint this daemon can read"},
+  };
+  for (const Case& c : cases) {
+    const fs::path path = testing::UniqueTempPath(c.name);
+    testing::WriteTextFile(path, c.content);
+    DaemonOptions o = MemqOptions();
+    o.checkpoint_path = path.string();
+    try {
+      EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+      ADD_FAILURE() << c.name << " accepted as a checkpoint";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << c.name << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(testing::ReadTextFile(path), c.content) << c.name << " was changed";
+    fs::remove(path);
+  }
+  // A state of this model that cannot be restored (a time far in the future would make every
+  // sample out of order): refused with Restore's reason.
+  const fs::path wedged = testing::UniqueTempPath("wedged.json");
+  {
+    DaemonOptions o = MemqOptions();
+    EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+    EstimatorState state = daemon.recursive_estimator().State();
+    state.has_time = true;
+    state.last_time = 1e300;
+    SaveEstimatorState(wedged.string(), state, CheckpointDescription(daemon.estimator()));
+  }
+  const std::string wedged_text = testing::ReadTextFile(wedged);
+  DaemonOptions o = MemqOptions();
+  o.checkpoint_path = wedged.string();
+  try {
+    EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+    ADD_FAILURE() << "a wedged state was restored";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("out of order"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(testing::ReadTextFile(wedged), wedged_text);
+  fs::remove(wedged);
+  // A 121 KB channel name (LCM carries at most 63 bytes: the daemon would never receive anything).
+  DaemonOptions long_channel = MemqOptions();
+  long_channel.input_channel = std::string(121 * 1024, 'C');
+  EXPECT_THROW(EstimationDaemon(MakeRobotDynamics(s.robot, {}), long_channel), std::invalid_argument);
+  // Paths no checkpoint can be written to.
+  for (const std::string& bad : {fs::temp_directory_path().string(), std::string("/nonexistent-dir/state.json")}) {
+    DaemonOptions d = MemqOptions();
+    d.checkpoint_path = bad;
+    EXPECT_THROW(EstimationDaemon(MakeRobotDynamics(s.robot, {}), d), std::runtime_error) << bad;
+  }
 }
 
 // A user's own message type, configured as inertiald's --config would be: the Cheetah-style

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <vector>
 
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
@@ -70,8 +71,59 @@ TEST(EstimatorStateFile, MalformedFilesAreNamed) {
                "covariance has 1 rows");
   expect_error("{\"format\": \"inertial-estimator-state\", \"version\": 1, \"kind\": \"gauss_newton\", \"x\": \"x\"}",
                "malformed");
+  // A number that overflows a double, a negative or fractional counter: the documented error.
+  const std::string head = "{\"format\": \"inertial-estimator-state\", \"version\": 1, \"kind\": \"gauss_newton\", ";
+  expect_error(head + "\"x\": [1e400], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {}}",
+               "not an estimator state");
+  expect_error(head + "\"x\": [1], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {\"accepted\": -3}}",
+               "counter \"accepted\" is -3");
+  expect_error(head + "\"x\": [1], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {\"accepted\": 2.5}}",
+               "not a non-negative integer");
   EXPECT_THROW(LoadEstimatorState("/nonexistent/state.json"), StateFileError);
   EXPECT_THROW(SaveEstimatorState("/nonexistent/dir/state.json", EstimatorState(), ""), StateFileError);
+}
+
+// States that would wedge the estimator (every later sample refused, the bad state written back at
+// every checkpoint) are refused by Restore with the reason, and the estimator is left as it was.
+TEST(EstimatorStateFile, UnusableStatesAreRefusedAndChangeNothing) {
+  OnlineEstimatorOptions o;
+  o.measurement_sigma = 0.01;
+  OnlineBodyEstimator a(SolidSphere(1.0, 0.05), o), b(SolidSphere(1.0, 0.05), o);
+  for (int k = 0; k < 100; ++k) a.Update(Sample(k));
+  const EstimatorState good = a.estimator().State();
+  const Eigen::VectorXd x_before = b.estimator().parameters();
+  struct Case {
+    std::string name;
+    EstimatorState state;
+    std::string expected;
+  };
+  std::vector<Case> cases;
+  EstimatorState s = good;
+  s.P = -good.P;
+  cases.push_back({"negative definite P", s, "not positive definite"});
+  s = good;
+  s.P(0, 1) += 1.0;
+  cases.push_back({"asymmetric P", s, "not symmetric"});
+  s = good;
+  s.P.setZero();
+  cases.push_back({"zero P", s, "not positive definite"});
+  s = good;
+  s.x[0] = 1e300;
+  cases.push_back({"x = 1e300", s, "beyond"});
+  s = good;
+  s.x[0] = 30.0;  // log-Cholesky: mass e^60 times the prior's
+  cases.push_back({"x = 30", s, "beyond"});
+  s = good;
+  s.last_time = 1e300;
+  cases.push_back({"last_time = 1e300", s, "out of order"});
+  for (const Case& c : cases) {
+    std::string why;
+    EXPECT_FALSE(b.estimator().Restore(c.state, &why)) << c.name;
+    EXPECT_NE(why.find(c.expected), std::string::npos) << c.name << ": " << why;
+    EXPECT_EQ(b.estimator().parameters(), x_before) << c.name << " changed the estimate";
+  }
+  std::string why;
+  EXPECT_TRUE(b.estimator().Restore(good, &why)) << why;
 }
 
 }  // namespace

@@ -293,6 +293,39 @@ TEST(UrdfModelErrors, UrdfdomRejectionsCarryUrdfdomsReason) {
   EXPECT_NE(message.find("limits"), std::string::npos) << message;
 }
 
+// urdfdom hands some attribute text to console_bridge's printf-style logger as the format itself:
+// '%s%n' wrote through a stack pointer (a segfault) and '%x%x%x%x' leaked stack contents into the
+// message. Every attribute urdfdom reads is checked first: no '%', numbers parsed strictly, counted.
+TEST(UrdfModelErrors, FormatStringsAndMalformedNumbersAreRefusedBeforeUrdfdom) {
+  const std::string inertia = "<inertia ixx='1' iyy='1' izz='1' ixy='0' ixz='0' iyz='0'/>";
+  struct Case {
+    std::string link_inside, expected;
+  };
+  const Case cases[] = {
+      {"<inertial><mass value=\"%s%n\"/>" + inertia + "</inertial>", "<mass> (line"},
+      {"<inertial><origin xyz=\"%x%x%x%x\"/><mass value=\"1\"/>" + inertia + "</inertial>", "'%'"},
+      {"<inertial><mass value=\"1kg\"/>" + inertia + "</inertial>", "attribute 'value': '1kg' is not a number"},
+      {"<inertial><mass value=\"nan\"/>" + inertia + "</inertial>", "attribute 'value'"},
+      {"<inertial><origin xyz=\"0 0\"/><mass value=\"1\"/>" + inertia + "</inertial>", "holds 2 numbers, 3 expected"},
+      {"<inertial><mass value=\"1\"/><inertia ixx='1e999' iyy='1' izz='1' ixy='0' ixz='0' iyz='0'/></inertial>",
+       "attribute 'ixx'"},
+      {"<visual><geometry><box size=\"1 %n 1\"/></geometry></visual><inertial><mass value=\"1\"/>" + inertia +
+           "</inertial>",
+       "<box> (line"},
+  };
+  for (const Case& c : cases) {
+    const std::string xml = RobotXml("r", LinkXml("a") + LinkXml("forearm", c.link_inside) + JointXml("j", "continuous", "a", "forearm"));
+    const std::string message = ErrorOf([&] { ParseUrdf(xml, "evil.urdf"); });
+    EXPECT_EQ(message.rfind("evil.urdf: ", 0), 0u) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos) << c.link_inside << " -> " << message;
+    EXPECT_EQ(message.find("0x"), std::string::npos) << "stack contents leaked: " << message;
+  }
+  // A '%' in a name is refused as well (urdfdom logs names in its errors).
+  const std::string named = RobotXml("r", LinkXml("a") + LinkXml("fore%sarm", "<inertial><mass value='1'/>" + inertia + "</inertial>") +
+                                              JointXml("j", "continuous", "a", "fore%sarm"));
+  EXPECT_NE(ErrorOf([&] { ParseUrdf(named, "evil.urdf"); }).find("holds a '%'"), std::string::npos);
+}
+
 TEST(UrdfModelErrors, InertialWithoutMassIsInvalidAlthoughUrdfdomKeepsIt) {
   const std::string xml = RobotXml(
       "r", LinkXml("a") + LinkXml("forearm", "<inertial><inertia ixx='1' iyy='1' izz='1' ixy='0' ixz='0' iyz='0'/></inertial>") +

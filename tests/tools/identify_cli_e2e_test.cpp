@@ -287,6 +287,17 @@ TEST(IdentifyCli, OverflowingValuesFailClearlyOrAreLeftOut) {
     EXPECT_TRUE(Contains(naive.err, "sample 777")) << naive.err;
     EXPECT_TRUE(Contains(naive.err, column)) << naive.err;
     EXPECT_FALSE(Contains(naive.out + naive.err, "-nan")) << naive.out;
+    // The same file held out (identify --validate) and diagnosed: the glitched row is left out and
+    // counted; no "inf" or "-nan" reaches the tables (it printed "inf (-nan %)" and exit 0).
+    const testing::CliRun held = RunCli({"identify", "--model", leg, "--data", bad.string(), "--validate", bad.string()});
+    EXPECT_EQ(held.exit_code, 0) << Describe(held);
+    EXPECT_TRUE(Contains(held.out, "1 more left out")) << held.out;
+    EXPECT_FALSE(Contains(held.out, "inf") || Contains(held.out, "nan")) << held.out;
+    const testing::CliRun diag = RunCli({"diagnose", "--model", leg, "--data", bad.string(), "--validate", bad.string()});
+    EXPECT_EQ(diag.exit_code, 0) << Describe(diag);
+    EXPECT_TRUE(Contains(diag.err, "1 sample(s) left out")) << diag.err;
+    EXPECT_TRUE(Contains(diag.err, "sample 777")) << diag.err;
+    EXPECT_FALSE(Contains(diag.out, "inf ") || Contains(diag.out, "nan")) << diag.out;
   }
   fs::remove_all(l.dir);
 }

@@ -9,6 +9,8 @@
 #include "inertial/io/body_csv.hpp"
 #include "inertial/io/diagnosis_html.hpp"
 #include "inertial/io/diagnosis_report.hpp"
+#include "inertial/io/validation_report.hpp"
+#include "inertial/estimation/outlier_rejection.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -89,6 +91,32 @@ int WriteReport(const std::string& dir, const WriteFn& write) {
     return kIoError;
   }
   std::cerr << "report written to " << dir << "/index.html\n";
+  return kOk;
+}
+
+// Samples with a value, or a URDF prediction, that is not finite or too large to square (a glitch
+// such as tau = 1e300) would turn every statistic of the diagnosis into inf or NaN: left out, counted
+// and the first named on stderr. kInvalidValue when none is left.
+int LeaveOutUnusableRows(const RobotDynamics& links, const std::string& file, JointSamples* log) {
+  const Eigen::MatrixXd predicted = PredictJointTorques(links, Eigen::VectorXd::Zero(links.num_parameters()), *log);
+  const std::vector<int> bad = NonFiniteRows(predicted, *log);
+  if (bad.empty()) return kOk;
+  if (static_cast<int>(bad.size()) == log->size()) {
+    std::cerr << "Error: " << file << ": every sample has a value or a URDF prediction that is not finite or too "
+              << "large to square (check gravity, units and the data's magnitudes)\n";
+    return kInvalidValue;
+  }
+  std::vector<int> keep;
+  for (int i = 0, b = 0; i < log->size(); ++i) {
+    if (b < static_cast<int>(bad.size()) && bad[b] == i) {
+      ++b;
+    } else {
+      keep.push_back(i);
+    }
+  }
+  std::cerr << "note: " << file << ": " << bad.size() << " sample(s) left out, a value or the URDF's prediction not "
+            << "finite or too large to square (first: sample " << bad[0] << ", t = " << log->t[bad[0]] << " s)\n";
+  *log = SelectSamples(*log, keep);
   return kOk;
 }
 
@@ -236,6 +264,13 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
     return MakeRobotDynamics(robot, e, gravity);
   };
+  {
+    const RobotDynamics links = make({});
+    const int t = LeaveOutUnusableRows(links, c.data, &train);
+    if (t != kOk) return t;
+    const int v = LeaveOutUnusableRows(links, c.validate.empty() ? c.data : c.validate, &validation);
+    if (v != kOk) return v;
+  }
   std::vector<DiagnosisStep> path;
   JointDiagnosis d;
   try {

@@ -49,6 +49,10 @@ int main(int argc, char** argv) {
   app.add_option("--residual-channel", residual_channel, "publish inertial.residual_t per sample on this channel");
   app.add_option("--checkpoint", checkpoint, "estimator state file: restored at start, saved periodically and at exit");
   app.add_option("--checkpoint-interval", checkpoint_interval, "seconds between checkpoints (default 5)");
+  bool fresh = false;
+  app.add_flag("--fresh", fresh,
+               "start from the priors even if --checkpoint names a file that cannot be restored (it is then "
+               "overwritten); without it such a file stops the start and is left untouched");
   app.add_option("--publish-rate", publish_rate, "estimates per second (default 10)");
   app.add_option("--estimator", estimator, "gauss_newton (default), gradient or linear_rls");
   app.add_option("--sigma", sigma, "torque measurement standard deviation [N m] (default 1)");
@@ -102,6 +106,7 @@ int main(int argc, char** argv) {
     if (!estimate_channel.empty()) options.estimate_channel = estimate_channel;
     if (!residual_channel.empty()) options.residual_channel = residual_channel;
     if (!checkpoint.empty()) options.checkpoint_path = checkpoint;
+    options.start_fresh = fresh;
     if (!estimator.empty()) options.estimator.kind = ParseEstimatorKind(estimator);
     if (!log_level.empty()) options.log_level = ParseLogLevel(log_level);
     auto positive = [](const std::string& text, const char* what, double* out) {

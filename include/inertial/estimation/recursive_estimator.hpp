@@ -31,6 +31,14 @@ struct EstimatorState {
   UpdateCounters counters;
 };
 
+/// Largest |time| [s] a restored state may hold: 1e10 s is year 2286 as Unix time (time stamps are
+/// seconds since some epoch; nothing a robot logs lies beyond).
+inline constexpr double kMaxStateTime = 1e10;
+/// Largest |coefficient| of w(x) a restored state may give, in SI units (kg, kg m, kg m^2, N m ...):
+/// six orders of magnitude above the heaviest robots' links (1e3 kg, 1e3 kg m^2); beyond it the
+/// torques A w lose every digit of the measured ones.
+inline constexpr double kMaxStateCoefficient = 1e9;
+
 class RecursiveEstimator {
  public:
   virtual ~RecursiveEstimator() = default;
@@ -57,7 +65,9 @@ class RecursiveEstimator {
 
   EstimatorState State() const;
   /// Restores a State() of an estimator of the same kind and sizes. Returns false (and *why says
-  /// what does not match) without changing anything otherwise.
+  /// what is wrong) without changing anything when it does not match or is not a usable state:
+  /// non-finite numbers, |last_time| > kMaxStateTime, a covariance that is not symmetric positive
+  /// definite, or coefficients w(x) beyond kMaxStateCoefficient.
   bool Restore(const EstimatorState& state, std::string* why);
 
  protected:

@@ -45,6 +45,10 @@ struct DaemonOptions {
   double publish_rate_hz = 10.0;
   double residual_window_s = 1.0;
   std::string checkpoint_path;                      ///< empty: no checkpoints
+  /// An existing checkpoint that cannot be restored (unreadable, of another model or estimator, or
+  /// not a usable state) stops the start, leaving the file untouched, unless this is set: then the
+  /// estimator starts from the priors and the file is overwritten at the next checkpoint.
+  bool start_fresh = false;
   double checkpoint_interval_s = 5.0;
   std::size_t queue_capacity = 4096;
   OnlineEstimatorOptions estimator;

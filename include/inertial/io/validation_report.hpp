@@ -41,7 +41,12 @@ struct ModelValidation {
   std::vector<std::string> left_out_reasons;
 };
 
-/// The rows (ascending) where `predicted` or any of data's q, qd, qdd, tau is not finite.
+/// Magnitudes at or above this cannot enter an RMS: their squares, summed over a log, overflow.
+inline constexpr double kLargestSquarable = 1e150;
+
+/// The rows (ascending) where `predicted` or any of data's q, qd, qdd, tau is not finite, or a
+/// torque or an error (predicted column c against data.tau column c mod joints) reaches
+/// kLargestSquarable.
 std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data);
 
 /// The robot model at x on `data`; samples with a non-finite measurement or prediction are left
