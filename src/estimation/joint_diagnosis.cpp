@@ -5,6 +5,7 @@
 #include "inertial/estimation/explained_error.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/estimation/friction_shape.hpp"
+#include "inertial/estimation/outlier_rejection.hpp"
 #include "inertial/estimation/trajectory_overlap.hpp"
 
 #include <algorithm>
@@ -297,21 +298,8 @@ void FitFrictionShapes(const RobotModelFactory& make, const std::vector<EffectSp
   }
   const RobotDynamics model = make(with);
   const int stride = std::max(1, (train.size() + kShapeSamples - 1) / kShapeSamples);
-  const int N = (train.size() + stride - 1) / stride, n = model.num_dofs();
-  JointSamples sub;
-  sub.joint_names = train.joint_names;
-  sub.t.resize(N);
-  sub.q.resize(N, n);
-  sub.qd.resize(N, n);
-  sub.qdd.resize(N, n);
-  sub.tau.resize(N, n);
-  for (int i = 0; i < N; ++i) {
-    sub.t[i] = train.t[i * stride];
-    sub.q.row(i) = train.q.row(i * stride);
-    sub.qd.row(i) = train.qd.row(i * stride);
-    sub.qdd.row(i) = train.qdd.row(i * stride);
-    sub.tau.row(i) = train.tau.row(i * stride);
-  }
+  const JointSamples sub = SelectSamples(train, RowRange(0, train.size(), stride));
+  const int N = sub.size(), n = model.num_dofs();
   const JointNormalEquations eq = AccumulateNormalEquations(model, sub);
   Eigen::MatrixXd H = eq.AtA;
   H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
@@ -365,17 +353,6 @@ std::optional<EffectSpec> ShapedCandidate(const Prepared& p, EffectKind kind, co
 }
 
 // Rows [begin, begin + count) of a log.
-JointSamples Rows(const JointSamples& data, int begin, int count) {
-  JointSamples out;
-  out.joint_names = data.joint_names;
-  out.t = data.t.segment(begin, count);
-  out.q = data.q.middleRows(begin, count);
-  out.qd = data.qd.middleRows(begin, count);
-  out.qdd = data.qdd.middleRows(begin, count);
-  out.tau = data.tau.middleRows(begin, count);
-  return out;
-}
-
 // Per-joint statistics of a log: blocks of kBlock samples, each accumulated by whichever thread is
 // free, summed in block order, so that the result does not depend on the number of threads (the
 // diagnosis's choices must not change with the machine). Each thread copies one block at a time.
@@ -391,7 +368,7 @@ std::vector<JointNormalEquations> JointwiseInParallel(const RobotDynamics& model
     for (int k = next++; k < blocks; k = next++) {
       try {
         const int begin = k * kBlock, count = std::min(kBlock, data.size() - begin);
-        parts[k] = AccumulateJointwiseNormalEquations(model, Rows(data, begin, count));
+        parts[k] = AccumulateJointwiseNormalEquations(model, SelectSamples(data, RowRange(begin, begin + count)));
       } catch (...) {
         errors[k] = std::current_exception();
       }

@@ -1,5 +1,7 @@
 #include "inertial/estimation/outlier_rejection.hpp"
 
+#include "inertial/estimation/robust_statistics.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +14,6 @@
 namespace inertial {
 namespace {
 
-constexpr double kMadToSigma = 1.4826;        // 1 / Phi^-1(3/4): MAD -> standard deviation (Gaussian)
 constexpr double kMinimumThreshold = 5.0;     // k never below this (header)
 constexpr double kExpectedFalseRejections = 0.01;  // good residuals wrongly rejected over the whole log
 constexpr double kRelativeScaleFloor = 1e-3;  // of the RMS measured torque (header)
@@ -25,23 +26,6 @@ std::string Number(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.4g", value);
   return text;
-}
-
-/// Median of v (reordered); v not empty.
-double Median(std::vector<double>& v) {
-  const std::size_t half = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(half), v.end());
-  const double upper = v[half];
-  if (v.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(half));
-  return lower + 0.5 * (upper - lower);  // no overflow for huge values of opposite sign
-}
-
-/// Median and MAD of v (reordered); v not empty.
-std::pair<double, double> MedianAndMad(std::vector<double>& v) {
-  const double median = Median(v);
-  for (double& x : v) x = std::abs(x - median);
-  return {median, Median(v)};
 }
 
 std::string Where(const JointSamples& data, int i) {
@@ -250,6 +234,24 @@ JointSamples SelectSamples(const JointSamples& data, const std::vector<int>& kee
     out.tau.row(r) = data.tau.row(i);
   }
   return out;
+}
+
+std::vector<int> RowsExcept(int n, const std::vector<int>& sorted_rows) {
+  std::vector<int> keep;
+  keep.reserve(static_cast<std::size_t>(std::max(0, n - static_cast<int>(sorted_rows.size()))));
+  std::size_t b = 0;
+  for (int i = 0; i < n; ++i) {
+    while (b < sorted_rows.size() && sorted_rows[b] < i) ++b;
+    if (b < sorted_rows.size() && sorted_rows[b] == i) continue;
+    keep.push_back(i);
+  }
+  return keep;
+}
+
+std::vector<int> RowRange(int begin, int end, int stride) {
+  std::vector<int> rows;
+  for (int i = begin; i < end; i += std::max(1, stride)) rows.push_back(i);
+  return rows;
 }
 
 double ChauvenetThreshold(long long n) {

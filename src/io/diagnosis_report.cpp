@@ -649,6 +649,7 @@ nlohmann::json BodyDiagnosisJson(const BodyDiagnosisContext& c) {
                {"theta", std::vector<double>(d.fit.x.data(), d.fit.x.data() + 10)},
                {"physically_consistent", cr.fully_consistent()}};
   j["physically_consistent"] = cr.fully_consistent();
+  j["left_out"] = c.left_out;
   j["iterations"] = d.fit.lm.iterations;
   j["converged"] = d.fit.lm.converged();
   nlohmann::json suggestions = nlohmann::json::array(), candidates = nlohmann::json::array();

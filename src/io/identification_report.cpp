@@ -98,15 +98,9 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   run.fit = std::move(robust.fit);
   run.outliers = std::move(robust.outliers);
   const JointNormalEquations& eq = robust.equations;
-  std::vector<int> keep;
-  for (int i = 0, r = 0; i < all_train.size(); ++i) {
-    if (r < static_cast<int>(run.outliers.rejected.size()) && run.outliers.rejected[r] == i) {
-      ++r;
-    } else {
-      keep.push_back(i);
-    }
-  }
-  const JointSamples train = run.outliers.rejected.empty() ? all_train : SelectSamples(all_train, keep);
+  const JointSamples train = run.outliers.rejected.empty()
+                                 ? all_train
+                                 : SelectSamples(all_train, RowsExcept(all_train.size(), run.outliers.rejected));
   run.train_samples = train.size();
   // The prior's own error: the URDF's bodies and no effects.
   const Eigen::VectorXd x_urdf = PriorParametersWithoutEffects(model);
@@ -127,15 +121,7 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
       if (static_cast<int>(bad.size()) == validation->size()) {
         throw std::invalid_argument("the validation log has no sample with finite values and predictions");
       }
-      std::vector<int> keep;
-      for (int i = 0, b = 0; i < validation->size(); ++i) {
-        if (b < static_cast<int>(bad.size()) && bad[b] == i) {
-          ++b;
-        } else {
-          keep.push_back(i);
-        }
-      }
-      kept_validation = SelectSamples(*validation, keep);
+      kept_validation = SelectSamples(*validation, RowsExcept(validation->size(), bad));
       v = &kept_validation;
       prior = PredictJointTorques(model, x_urdf, *v);
       fitted = PredictJointTorques(model, run.fit.x, *v);

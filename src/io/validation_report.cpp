@@ -52,14 +52,7 @@ void LeaveOutNonFinite(ModelValidation* v) {
     throw std::invalid_argument("no sample gives a finite prediction (first: " + v->left_out_reasons.front() +
                                 "): a coefficient or inertia of the model is too large, or the log's values are");
   }
-  std::vector<int> keep;
-  for (int i = 0, b = 0; i < s.size(); ++i) {
-    if (b < static_cast<int>(bad.size()) && bad[b] == i) {
-      ++b;
-    } else {
-      keep.push_back(i);
-    }
-  }
+  const std::vector<int> keep = RowsExcept(s.size(), bad);
   Eigen::MatrixXd predicted(static_cast<int>(keep.size()), v->predicted.cols());
   for (int r = 0; r < static_cast<int>(keep.size()); ++r) predicted.row(r) = v->predicted.row(keep[r]);
   v->predicted = predicted;

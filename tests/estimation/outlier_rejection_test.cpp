@@ -125,6 +125,16 @@ TEST(OutlierRejection, SelectSamplesCopiesRowsInOrder) {
   EXPECT_THROW(SelectSamples(s, {-1}), std::invalid_argument);
 }
 
+TEST(OutlierRejection, RowsExceptAndRowRangeListTheRowsKept) {
+  EXPECT_EQ(RowsExcept(6, {0, 3, 5}), (std::vector<int>{1, 2, 4}));
+  EXPECT_EQ(RowsExcept(3, {}), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(RowsExcept(3, {0, 1, 2}), std::vector<int>{});
+  EXPECT_EQ(RowsExcept(0, {}), std::vector<int>{});
+  EXPECT_EQ(RowRange(2, 9, 3), (std::vector<int>{2, 5, 8}));
+  EXPECT_EQ(RowRange(4, 7), (std::vector<int>{4, 5, 6}));
+  EXPECT_EQ(RowRange(5, 5), std::vector<int>{});
+}
+
 // Clean data, with and without noise: nothing is rejected, and the fit is the plain one.
 TEST(OutlierRejection, CleanDataLosesNoRow) {
   const Case c = MakeCase();

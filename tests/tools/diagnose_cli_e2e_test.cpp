@@ -154,6 +154,35 @@ TEST(DiagnoseCli, ReportRendersInHeadlessChromium) {
   fs::remove_all(dir);
 }
 
+// One changed value in a body log (issue 15): a twist or a wrench of 1000 among values near 1. The
+// sample is named and left out, and the fit is the clean log's: a consistent body of the true mass.
+TEST(DiagnoseCli, GlitchedBodySampleIsLeftOut) {
+  const BodyLog clean = testing::SimulateFreeBody(testing::TestFreeBody(), 100, 40, 5, [](TwistWrenchSample* s, testing::Rng* rng) {
+    for (int k = 0; k < 6; ++k) s->wrench[k] += rng->Normal(0.01);
+  });
+  for (const int column : {3, 10}) {
+    BodyLog log = clean;
+    if (column < 6) {
+      log.samples[1999].twist[column] = 1000.0;
+    } else {
+      log.samples[1999].wrench[column - 6] = 1000.0;
+    }
+    const fs::path csv = testing::UniqueTempPath("glitched_body.csv");
+    WriteBodyCsv(csv.string(), log);
+    const testing::CliRun r = RunCli({"diagnose", "--body", "--data", csv.string(), "--json"});
+    ASSERT_EQ(r.exit_code, 0) << Describe(r);
+    const std::string name = column == 3 ? "vx" : "fy";
+    EXPECT_TRUE(Contains(r.err, "1 glitched sample(s) left out")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "sample 1999 (t = 19.99 s): " + name + " = 1000")) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["physically_consistent"].get<bool>());
+    EXPECT_NEAR(j["body"]["mass"].get<double>(), testing::TestFreeBody().mass(), 0.01 * testing::TestFreeBody().mass());
+    ASSERT_EQ(j["left_out"].size(), 1u);
+    EXPECT_EQ(j["samples"]["train_pairs"].get<int>(), static_cast<int>(clean.samples.size()) - 2);
+    fs::remove(csv);
+  }
+}
+
 // Single-body data with the paper's velocity bias: --body names it.
 TEST(DiagnoseCli, SingleBodyVelocityBias) {
   const BodyLog log = testing::SimulateFreeBody(testing::TestFreeBody(), 100, 40, 5, [](TwistWrenchSample* s, testing::Rng* rng) {

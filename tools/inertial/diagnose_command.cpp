@@ -1,5 +1,7 @@
 // `inertial diagnose`: compare the model with held-out measurements, show where it fails, and rank
 // the physical effects it lacks (joint_diagnosis.hpp, body_diagnosis.hpp).
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 
@@ -11,6 +13,7 @@
 #include "inertial/io/diagnosis_report.hpp"
 #include "inertial/io/validation_report.hpp"
 #include "inertial/estimation/outlier_rejection.hpp"
+#include "inertial/estimation/sample_glitches.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -106,18 +109,26 @@ int LeaveOutUnusableRows(const RobotDynamics& links, const std::string& file, Jo
               << "large to square (check gravity, units and the data's magnitudes)\n";
     return kInvalidValue;
   }
-  std::vector<int> keep;
-  for (int i = 0, b = 0; i < log->size(); ++i) {
-    if (b < static_cast<int>(bad.size()) && bad[b] == i) {
-      ++b;
-    } else {
-      keep.push_back(i);
-    }
-  }
   std::cerr << "note: " << file << ": " << bad.size() << " sample(s) left out, a value or the URDF's prediction not "
             << "finite or too large to square (first: sample " << bad[0] << ", t = " << log->t[bad[0]] << " s)\n";
-  *log = SelectSamples(*log, keep);
+  *log = SelectSamples(*log, RowsExcept(log->size(), bad));
   return kOk;
+}
+
+// Glitched samples of a single-body log (sample_glitches.hpp) are left out before the fit: a glitch
+// in the twist is a regressor the fit bends to and whose residual then looks small. Named on stderr.
+void LeaveOutGlitches(const std::string& file, BodyLog* log, std::vector<std::string>* left_out) {
+  const GlitchScreen screen = FindGlitches(BodySignals(*log));
+  if (screen.glitches.empty()) return;
+  for (const SampleGlitch& g : screen.glitches) left_out->push_back(file + ": " + DescribeGlitch(*log, g));
+  constexpr std::size_t kNamed = 3;
+  std::cerr << "note: " << file << ": " << screen.glitches.size() << " glitched sample(s) left out, a value far from "
+            << "its neighbours (more than " << std::lround(screen.threshold) << " robust scales):\n";
+  for (std::size_t k = 0; k < std::min(kNamed, screen.glitches.size()); ++k) {
+    std::cerr << "  " << DescribeGlitch(*log, screen.glitches[k]) << "\n";
+  }
+  if (screen.glitches.size() > kNamed) std::cerr << "  and " << screen.glitches.size() - kNamed << " more\n";
+  *log = SelectBodySamples(*log, RowsExcept(static_cast<int>(log->samples.size()), screen.Rows()));
 }
 
 std::string HoldoutSource(const std::string& data, double fraction) {
@@ -181,6 +192,12 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
   }
+  std::vector<std::string> left_out;
+  LeaveOutGlitches(c.data, &all, &left_out);
+  if (!c.validate.empty()) {
+    train = all;
+    LeaveOutGlitches(c.validate, &validation, &left_out);
+  }
   const bool cross_validate = c.validate.empty() && c.holdout.empty();
   if (c.validate.empty() && !cross_validate) {
     const int split = SplitOrFail(c.data, holdout, all, &train, &validation);
@@ -210,6 +227,7 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   context.prior = prior;
   context.validation_source = source;
   context.min_explained = min_explained;
+  context.left_out = left_out;
   const std::string text = BodyDiagnosisText(context);
   if (c.json) {
     std::cout << BodyDiagnosisJson(context).dump(2) << "\n";

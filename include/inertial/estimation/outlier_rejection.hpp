@@ -83,6 +83,13 @@ struct OutlierReport {
 ///   have data.size() rows.
 JointSamples SelectSamples(const JointSamples& data, const std::vector<int>& keep_rows);
 
+/// The rows 0..n-1 that are not in `sorted_rows` (ascending, each in [0, n)), ascending: the rows to
+/// keep when `sorted_rows` are left out.
+std::vector<int> RowsExcept(int n, const std::vector<int>& sorted_rows);
+
+/// The rows begin, begin + stride, ... below end (stride >= 1).
+std::vector<int> RowRange(int begin, int end, int stride = 1);
+
 struct RobustIdentificationResult {
   JointIdentificationResult fit;    ///< IdentifyJointModel on the kept rows (bit for bit)
   OutlierReport outliers;

@@ -79,6 +79,9 @@ struct BodyDiagnosisContext {
   std::string validation_source;
   double min_explained = 0.02;
   double min_gain = 0.005;  ///< BodyDiagnosisOptions::min_gain
+  /// Glitched samples left out before the fit (sample_glitches.hpp), one sentence each, prefixed
+  /// with their file: JSON "left_out".
+  std::vector<std::string> left_out;
 };
 
 std::string BodyCandidateExplanation(const BodyCandidateResult& candidate);
