@@ -20,6 +20,7 @@ packages=(
   iproute2                  # ip: the multicast end-to-end test sets up its own network namespace
   libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers
   can-utils                 # log2asc, log2long: cross-checks of the candump parser, tests only
+  clang libclang-rt-14-dev  # clang with libFuzzer and the ASan/UBSan runtimes: sanitizer build, fuzzing (checks only)
 )
 
 missing=()

@@ -119,7 +119,13 @@ struct EstimationDaemon::Impl {
   BoundedQueue<Sample> queue;
   Sample scratch;  // decoded by the receiver thread only
   EstimationDaemon* owner = nullptr;
-  std::uint64_t rejections_logged = 0;
+
+  // A rejection is logged at warn the first time its reason occurs, then at debug level (counted).
+  void LogRejection(const std::string& reason, const std::string& text) {
+    const bool first = owner->FirstTime("rejected " + reason);
+    owner->Log(first ? LogLevel::kWarn : LogLevel::kDebug,
+               text + (first ? " (further '" + reason + "' rejections are counted, not logged at warn)" : ""));
+  }
 
   // CAN mode: one frame into the assembler; a completed tick into the queue.
   void OnFrame(const CanFrame& frame) {
@@ -142,9 +148,7 @@ struct EstimationDaemon::Impl {
       add("priming", before.priming, after.priming);
       if (dropped) ++owner->counters_.dropped;
     }
-    if (after.malformed > before.malformed && ++rejections_logged <= 10) {
-      owner->Log(LogLevel::kWarn, "rejected a CAN frame: " + why);
-    }
+    if (after.malformed > before.malformed) LogRejection("malformed", "rejected a CAN frame: " + why);
   }
 
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
@@ -156,8 +160,8 @@ struct EstimationDaemon::Impl {
         ++owner->counters_.received;
         ++owner->counters_.rejected["decode"];
       }
-      owner->Log(LogLevel::kWarn, std::string("a message on ") + owner->options_.input_channel +
-                                      " could not be handled: " + e.what());
+      LogRejection("decode", std::string("a message on ") + owner->options_.input_channel +
+                                 " could not be handled: " + e.what());
     }
   }
 
@@ -175,11 +179,7 @@ struct EstimationDaemon::Impl {
       if (dropped) ++owner->counters_.dropped;
     }
     if (r != MessageRejection::kNone && r != MessageRejection::kPriming) {
-      // Every rejection at debug level; the first 10 at warn, so a flood does not flood the log.
-      const bool loud = ++rejections_logged <= 10;
-      owner->Log(loud ? LogLevel::kWarn : LogLevel::kDebug,
-                 "rejected a message on " + owner->options_.input_channel + " (" + ToString(r) + "): " + why +
-                     (rejections_logged == 10 ? " (further rejections at debug level)" : ""));
+      LogRejection(ToString(r), "rejected a message on " + owner->options_.input_channel + " (" + ToString(r) + "): " + why);
     }
   }
 };
@@ -321,6 +321,16 @@ void EstimationDaemon::WriteModel() {
   }
 }
 
+bool EstimationDaemon::FirstTime(const std::string& problem) {
+  std::lock_guard<std::mutex> lock(problems_mutex_);
+  return problems_.insert(problem).second;
+}
+
+bool EstimationDaemon::Recovered(const std::string& problem) {
+  std::lock_guard<std::mutex> lock(problems_mutex_);
+  return problems_.erase(problem) > 0;
+}
+
 void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
   if (static_cast<int>(level) > static_cast<int>(options_.log_level)) return;
   static const char* kNames[] = {"error", "warn", "info", "debug"};
@@ -393,19 +403,37 @@ void EstimationDaemon::Publish(std::int64_t utime) {
   const std::vector<std::uint8_t> bytes =
       body_ ? EncodeBodyEstimate(*body_, "body", utime, rms, options_.residual_window_s, counters())
             : EncodeEstimate(*estimator_, utime, rms, options_.residual_window_s, counters());
-  impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size()));
-  std::lock_guard<std::mutex> lock(counters_mutex_);
-  ++counters_.published;
+  const bool sent = impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0;
+  {
+    std::lock_guard<std::mutex> lock(counters_mutex_);
+    ++(sent ? counters_.published : counters_.publish_failures);
+  }
+  if (!sent && FirstTime("publish")) {
+    Log(LogLevel::kError, "cannot publish on " + options_.estimate_channel + " (" + options_.lcm_url +
+                              "): LCM refused the message; estimation goes on, further failures are counted");
+  } else if (sent && Recovered("publish")) {
+    Log(LogLevel::kInfo, "publishing on " + options_.estimate_channel + " again");
+  }
 }
 
 void EstimationDaemon::Checkpoint() {
   if (options_.checkpoint_path.empty()) return;
   try {
     SaveEstimatorState(options_.checkpoint_path, recursive_estimator().State(), Description());
-    std::lock_guard<std::mutex> lock(counters_mutex_);
-    ++counters_.checkpoints;
+    {
+      std::lock_guard<std::mutex> lock(counters_mutex_);
+      ++counters_.checkpoints;
+    }
+    if (Recovered("checkpoint")) Log(LogLevel::kInfo, "checkpoint " + options_.checkpoint_path + " written again");
   } catch (const std::exception& e) {
-    Log(LogLevel::kError, std::string("checkpoint failed: ") + e.what());
+    {
+      std::lock_guard<std::mutex> lock(counters_mutex_);
+      ++counters_.checkpoint_failures;
+    }
+    const bool first = FirstTime("checkpoint");
+    Log(first ? LogLevel::kError : LogLevel::kDebug,
+        std::string("checkpoint failed: ") + e.what() +
+            (first ? " (estimation goes on; further failures are counted, and a success is logged)" : ""));
   }
 }
 
@@ -490,6 +518,8 @@ std::string EstimationDaemon::CountersText() const {
   }
   out << ", dropped " << c.dropped << "; published " << c.published << " estimates, " << c.checkpoints
       << " checkpoints";
+  if (c.publish_failures > 0) out << "; " << c.publish_failures << " estimates LCM could not send";
+  if (c.checkpoint_failures > 0) out << "; " << c.checkpoint_failures << " checkpoints that could not be written";
   return out.str();
 }
 

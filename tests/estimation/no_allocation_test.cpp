@@ -17,6 +17,17 @@
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 
+#ifdef INERTIAL_TEST_UNDER_ASAN
+// AddressSanitizer replaces malloc itself, and a second replacement cannot coexist with it: the
+// tests report themselves skipped (tests/CMakeLists.txt builds this file without the guard there).
+#define INERTIAL_SKIP_UNDER_ASAN() \
+  GTEST_SKIP() << "this test replaces malloc to count allocations, which AddressSanitizer owns; the normal build runs it"
+namespace {
+std::atomic<long> g_allocations{0};
+std::atomic<bool> g_counting{false};
+}  // namespace
+#else
+#define INERTIAL_SKIP_UNDER_ASAN() (void)0
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "this test must be compiled with EIGEN_RUNTIME_NO_MALLOC"
 #endif
@@ -61,6 +72,7 @@ void operator delete(void* p) noexcept { __libc_free(p); }
 void operator delete[](void* p) noexcept { __libc_free(p); }
 void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
 void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
+#endif  // INERTIAL_TEST_UNDER_ASAN
 
 namespace inertial {
 namespace {
@@ -69,11 +81,15 @@ namespace {
 template <typename F>
 long AllocationsDuring(F&& body) {
   g_allocations = 0;
+#ifndef INERTIAL_TEST_UNDER_ASAN
   Eigen::internal::set_is_malloc_allowed(false);
+#endif
   g_counting = true;
   body();
   g_counting = false;
+#ifndef INERTIAL_TEST_UNDER_ASAN
   Eigen::internal::set_is_malloc_allowed(true);
+#endif
   return g_allocations;
 }
 
@@ -118,6 +134,7 @@ JointSample SampleAt(const RobotDynamics& model, const Eigen::VectorXd& x_true, 
 }
 
 TEST(NoAllocation, TheHookAndTheGuardSeeAllocations) {
+  INERTIAL_SKIP_UNDER_ASAN();
   // The counting hook can fail: a vector allocates.
   g_allocations = 0;
   g_counting = true;
@@ -129,6 +146,7 @@ TEST(NoAllocation, TheHookAndTheGuardSeeAllocations) {
 }
 
 TEST(NoAllocation, JointEstimatorsOnALegAndAnArm) {
+  INERTIAL_SKIP_UNDER_ASAN();
   for (const RobotDynamics& model : {Leg(), Arm()}) {
     Eigen::VectorXd x_true = Eigen::VectorXd::Constant(model.num_parameters(), 0.1);
     std::vector<JointSample> samples;
@@ -156,6 +174,7 @@ TEST(NoAllocation, JointEstimatorsOnALegAndAnArm) {
 }
 
 TEST(NoAllocation, SingleBodyEstimators) {
+  INERTIAL_SKIP_UNDER_ASAN();
   const InertialParams truth = SolidBox(1.3, 0.2, 0.1, 0.05, Pose{Matrix3::Identity(), Vector3(0.05, 0, 0.02)});
   std::vector<BodySample> samples;
   for (int k = 0; k < 5000; ++k) {

@@ -8,6 +8,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <thread>
 
 #include "cli_support.hpp"
@@ -291,6 +292,67 @@ TEST(EstimationDaemon, CheckpointRestoresTheState) {
   EstimationDaemon gradient(MakeRobotDynamics(s.robot, {}), other);
   EXPECT_FALSE(gradient.restored_from_checkpoint());
   fs::remove(checkpoint);
+}
+
+// Issue 15, part 4: the daemon keeps running when it cannot write its checkpoint or when messages
+// are bad, and says each problem once (then counts it), and says once when the checkpoint works again.
+TEST(EstimationDaemon, SaysOnceWhatItCannotDo) {
+  const Stream& s = LegStream();
+  const fs::path dir = testing::UniqueTempPath("checkpoints");
+  fs::create_directories(dir);
+  DaemonOptions o = MemqOptions();
+  o.checkpoint_path = (dir / "state.json").string();
+  o.checkpoint_interval_s = 0.01;
+  o.log_level = LogLevel::kInfo;
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+  std::mutex mutex;
+  std::vector<std::string> lines;
+  daemon.set_log_sink([&](const std::string& line) {
+    std::lock_guard<std::mutex> lock(mutex);
+    lines.push_back(line);
+  });
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  auto wait_until = [&](const std::function<bool(const DaemonCounters&)>& done) {
+    for (int i = 0; i < 2000 && !done(daemon.counters()); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return done(daemon.counters());
+  };
+  ASSERT_TRUE(wait_until([](const DaemonCounters& c) { return c.checkpoints >= 1; }));
+  fs::remove_all(dir);  // the checkpoint's directory goes away while the daemon runs
+  ASSERT_TRUE(wait_until([](const DaemonCounters& c) { return c.checkpoint_failures >= 10; }));
+  std::uint64_t sent = 0;
+  for (int i = 0; i < 40; ++i) {  // 20 undecodable messages and 20 of an unknown joint, among good ones
+    const std::vector<std::uint8_t> good = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", good.data(), static_cast<unsigned>(good.size()));
+    const std::vector<std::uint8_t> junk(17, static_cast<std::uint8_t>(i));
+    const std::vector<std::uint8_t> unknown = EncodeJointState({"abad", "hip", "ankle"}, s.samples[static_cast<size_t>(i)]);
+    const std::vector<std::uint8_t>& bad = i % 2 == 0 ? junk : unknown;
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", bad.data(), static_cast<unsigned>(bad.size()));
+    sent += 2;
+  }
+  WaitFor(daemon, sent);
+  fs::create_directories(dir);  // and comes back
+  const std::uint64_t written = daemon.counters().checkpoints;
+  ASSERT_TRUE(wait_until([&](const DaemonCounters& c) { return c.checkpoints >= written + 3; }));
+  stop = true;
+  runner.join();
+  auto count = [&](const std::string& fragment) {
+    std::lock_guard<std::mutex> lock(mutex);
+    return std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(fragment) != std::string::npos; });
+  };
+  std::string log;
+  for (const std::string& l : lines) log += l + "\n";
+  EXPECT_EQ(count("checkpoint failed"), 1) << log;
+  EXPECT_EQ(count("written again"), 1);
+  EXPECT_EQ(count("(decode)"), 1);
+  EXPECT_EQ(count("(unknown_joint)"), 1);
+  const DaemonCounters c = daemon.counters();
+  EXPECT_EQ(c.rejected.at("decode"), 20u);
+  EXPECT_EQ(c.rejected.at("unknown_joint"), 20u);
+  EXPECT_GE(c.checkpoint_failures, 10u);
+  EXPECT_NE(daemon.CountersText().find("checkpoints that could not be written"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "state.json"));
+  fs::remove_all(dir);
 }
 
 // What once wedged the daemon or lost a file: a URDF, an empty file, random bytes or a state that

@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include "inertial/estimation/online_body_estimator.hpp"
@@ -67,6 +68,8 @@ struct DaemonCounters {
   std::uint64_t dropped = 0;   ///< samples lost to a full queue
   std::uint64_t published = 0;
   std::uint64_t checkpoints = 0;
+  std::uint64_t checkpoint_failures = 0;  ///< checkpoints that could not be written
+  std::uint64_t publish_failures = 0;     ///< estimates LCM could not send
   std::map<std::string, std::uint64_t> rejected;  ///< by reason (decode, wrong_size, unknown_joint, ...)
   std::uint64_t total_rejected() const;
 };
@@ -113,6 +116,12 @@ class EstimationDaemon {
   struct Sample;  // what the queue holds: a joint sample or a body sample
   void Start(int num_channels);
   void Log(LogLevel level, const std::string& text) const;
+  /// What the daemon cannot do is said once: the first time `problem` occurs, true (log it, at warn
+  /// or error); after that false (log at debug level: the counters carry the count) until
+  /// Recovered(problem). Thread-safe.
+  bool FirstTime(const std::string& problem);
+  /// `problem` no longer occurs: true if it had (log that once), and it will be said again if it recurs.
+  bool Recovered(const std::string& problem);
   void Process(const Sample& sample);
   void Account(UpdateStatus status, double t, const Eigen::VectorXd& residual);
   void Publish(std::int64_t utime);
@@ -123,7 +132,8 @@ class EstimationDaemon {
   std::unique_ptr<OnlineJointEstimator> estimator_;
   std::unique_ptr<OnlineBodyEstimator> body_;
   std::unique_ptr<Impl> impl_;
-  mutable std::mutex counters_mutex_, log_mutex_;
+  mutable std::mutex counters_mutex_, log_mutex_, problems_mutex_;
+  std::set<std::string> problems_;  // FirstTime
   DaemonCounters counters_;
   bool restored_ = false;
   std::function<void(const std::string&)> log_sink_;

@@ -1,0 +1,46 @@
+// Fuzz harness: candump -l logs (can_frame.hpp), line by line as the parser sees them, and whole as
+// `inertial replay --candump` replays them through the leg's motors (mini_cheetah, ids 1-3) and the
+// online estimator, which must stay consistent.
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "fuzz_support.hpp"
+#include "inertial/io/can_frame.hpp"
+#include "inertial/io/log_replay.hpp"
+#include "inertial/io/motor_codec.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace inertial;
+  const std::string text = fuzz::Text(data, size);
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    CanFrame frame;
+    std::string interface, why;
+    try {
+      if (ParseCandumpLine(line, &frame, &interface, &why) == CandumpLine::kFrame) {
+        if (!frame.error && (frame.extended ? frame.id > 0x1FFFFFFFu : frame.id > 0x7FFu)) fuzz::Fail("an identifier out of range");
+        if (frame.length > (frame.fd ? 64 : 8)) fuzz::Fail("a payload longer than the frame allows");
+      }
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  static const CanConfig leg = ParseCanConfig(
+      "motors:\n  - {id: 1, joint: abad}\n  - {id: 2, joint: hip}\n  - {id: 3, joint: knee}\n", "leg.yaml");
+  const std::string path = "/tmp/inertial-fuzz-" + std::to_string(getpid()) + ".candump";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << text;
+  }
+  OnlineJointEstimator e(fuzz::LegDynamics(), Eigen::VectorXd::Zero(fuzz::LegDynamics().num_parameters()));
+  ReplayOptions options;
+  options.can = leg;
+  try {
+    ReplayLog(path, &e, options);
+  } catch (const std::runtime_error&) {
+  }
+  std::remove(path.c_str());
+  fuzz::RequireConsistent(e, "a candump log");
+  return 0;
+}

@@ -1,0 +1,50 @@
+// What the fuzz harnesses share: the bundled leg as the model inputs are fed to, and checks that
+// abort (a finding, as a crash is) when an input that was accepted left an estimate that is not
+// finite or not physically consistent. Each harness catches only the exceptions its input's
+// reader documents; anything else escaping is a finding too.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/io/identification_report.hpp"
+#include "inertial/io/urdf_model.hpp"
+
+namespace inertial::fuzz {
+
+inline std::string Text(const std::uint8_t* data, std::size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+[[noreturn]] inline void Fail(const std::string& what) {
+  std::fprintf(stderr, "fuzz finding: %s\n", what.c_str());
+  std::abort();
+}
+
+/// The bundled 3-DOF leg (examples/leg3.urdf; joints abad, hip, knee), loaded once.
+inline const RobotModel& Leg() {
+  static const RobotModel robot = LoadUrdf(std::string(INERTIAL_SOURCE_DIR) + "/examples/leg3.urdf");
+  return robot;
+}
+
+inline const RobotDynamics& LegDynamics() {
+  static const RobotDynamics model = MakeRobotDynamics(Leg(), {});
+  return model;
+}
+
+/// Every body of the estimate finite and physically consistent (the estimator's promise).
+inline void RequireConsistent(const OnlineJointEstimator& e, const char* after) {
+  if (!e.coefficients().allFinite()) Fail(std::string("a coefficient is not finite after ") + after);
+  for (int b = 0; b < static_cast<int>(e.model().bodies().size()); ++b) {
+    const InertialParams body = e.Body(b);
+    if (!body.vector().allFinite()) Fail(std::string("a body is not finite after ") + after);
+    const ConsistencyReport r = CheckConsistency(body, 1e-9);
+    if (!r.fully_consistent()) Fail(std::string("a body is not consistent after ") + after + ": " + r.reason);
+  }
+}
+
+}  // namespace inertial::fuzz
