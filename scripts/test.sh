@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test (CTest). This is the README's test command and
-# what .ci/run calls. Extra arguments go to ctest, e.g. scripts/test.sh -L unit
+# Installs dependencies, builds, and runs every test (CTest); then the same suite in the sanitizer
+# build and the fuzz harnesses for a bounded time (scripts/test-sanitizers.sh). This is the README's
+# test command and what .ci/run calls. Extra arguments go to both ctest runs, e.g.
+# scripts/test.sh -L unit. INERTIAL_SANITIZERS=0 skips the sanitizer build (a quick local run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)" "$@"
+if [ "${INERTIAL_SANITIZERS:-1}" != "0" ]; then
+  scripts/test-sanitizers.sh "$@"
+fi

@@ -84,9 +84,16 @@ TEST(LevenbergMarquardt, EveryParameterizationFindsTheConsistentOptimum) {
         LevenbergMarquardtOptions options;
         options.function_tolerance = options.step_tolerance = 1e-12;
         options.gradient_tolerance = 1e-12;
-        options.max_iterations = 200;
+        // The eigenvalue map (rotation and principal moments) is the slowest near bodies with two
+        // nearly equal principal moments, where its rotation is nearly undetermined (the paper's
+        // Section VI finds it the slowest too): 200 iterations sufficed for the GCC build, one
+        // trial needed more under clang's rounding. The cap guards against a loop, not a rate.
+        options.max_iterations = 1000;
         const LevenbergMarquardtResult fit = FitLevenbergMarquardt(*p, reg, x0, options);
-        EXPECT_TRUE(fit.converged()) << p->name() << " " << ToString(fit.reason);
+        EXPECT_TRUE(fit.converged()) << p->name() << " " << ToString(fit.reason) << " after " << fit.iterations;
+        if (p->name() != "eigenvalue") {
+          EXPECT_LE(fit.iterations, 200) << p->name();
+        }
         EXPECT_LT(RelativeError(fit.pi, lls.pi), 1e-6) << p->name() << " noise " << noise;
         EXPECT_LE(fit.cost, fit.initial_cost);
         EXPECT_GE(fit.cost, lls.cost * (1 - 1e-12) - 1e-18);  // nobody beats the global optimum

@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   static const CanConfig leg = ParseCanConfig(
       "motors:\n  - {id: 1, joint: abad}\n  - {id: 2, joint: hip}\n  - {id: 3, joint: knee}\n", "leg.yaml");
-  const std::string path = "/tmp/inertial-fuzz-" + std::to_string(getpid()) + ".candump";
+  const std::string path = fuzz::TempPath("candump");
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << text;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <unistd.h>
 
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -15,6 +16,13 @@
 #include "inertial/io/urdf_model.hpp"
 
 namespace inertial::fuzz {
+
+/// A file of this process for harnesses whose reader takes a path: in /dev/shm when there is one
+/// (memory, so that a million inputs do not wear a disk), else /tmp.
+inline std::string TempPath(const std::string& extension) {
+  static const std::string dir = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
+  return dir + "/inertial-fuzz-" + std::to_string(::getpid()) + "." + extension;
+}
 
 inline std::string Text(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);

@@ -10,7 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;
-  const std::string path = "/tmp/inertial-fuzz-" + std::to_string(getpid()) + ".lcm";
+  const std::string path = fuzz::TempPath("lcm");
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));

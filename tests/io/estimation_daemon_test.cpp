@@ -369,7 +369,7 @@ TEST(EstimationDaemon, CheckpointsThatCannotBeRestoredStopTheStartAndAreKept) {
   const Case cases[] = {
       {"robot.urdf", urdf_text, "not a checkpoint this daemon can read"},
       {"empty.json", "", "not a checkpoint this daemon can read"},
-      {"random.bin", std::string("\x13\x9f\x00\xfe garbage", 14), "not a checkpoint this daemon can read"},
+      {"random.bin", std::string("\x13\x9f\x00\xfe garbage", 12), "not a checkpoint this daemon can read"},
       {"overflow.json", state_head + "\"x\": [1e400]}", "not a checkpoint this daemon can read"},
   };
   for (const Case& c : cases) {
