@@ -136,6 +136,42 @@ void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source
   }
 }
 
+// The joints must form a tree before urdfdom links them: a joint whose parent is its own child, a
+// link with two parent joints, or a loop of joints makes urdfdom's links hold each other by shared
+// pointers, which leak when it then refuses the file (a fuzzed URDF found it).
+void CheckJointGraph(const tinyxml2::XMLElement& robot, const std::string& source) {
+  std::map<std::string, std::pair<std::string, std::string>> parent_of;  // child link -> {parent link, joint}
+  for (const tinyxml2::XMLElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const tinyxml2::XMLElement* parent = j->FirstChildElement("parent");
+    const tinyxml2::XMLElement* child = j->FirstChildElement("child");
+    const char* parent_link = parent != nullptr ? parent->Attribute("link") : nullptr;
+    const char* child_link = child != nullptr ? child->Attribute("link") : nullptr;
+    if (parent_link == nullptr || child_link == nullptr) continue;  // urdfdom names what is missing
+    const std::string joint = j->Attribute("name") != nullptr ? j->Attribute("name") : "";
+    const std::string where = source + ": joint '" + joint + "' (line " + std::to_string(j->GetLineNum()) + ")";
+    if (std::strcmp(parent_link, child_link) == 0) {
+      throw UrdfError(where + ": link '" + std::string(child_link) + "' is both its parent and its child");
+    }
+    const auto [it, inserted] = parent_of.emplace(child_link, std::make_pair(std::string(parent_link), joint));
+    if (!inserted) {
+      throw UrdfError(where + ": link '" + std::string(child_link) + "' is already the child of joint '" +
+                      it->second.second + "'; a link has one parent joint");
+    }
+  }
+  for (const auto& [start, unused] : parent_of) {
+    std::string link = start;
+    for (std::size_t steps = 0; steps <= parent_of.size(); ++steps) {
+      const auto up = parent_of.find(link);
+      if (up == parent_of.end()) break;
+      link = up->second.first;
+      if (link == start) {
+        throw UrdfError(source + ": the joints form a loop through link '" + start + "' (joint '" + up->second.second +
+                        "'); a URDF describes a tree");
+      }
+    }
+  }
+}
+
 FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
@@ -156,6 +192,7 @@ FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
     const std::string name = e->Name();
     if (name == "link" || name == "joint" || name == "material") ValidateForUrdfdom(*e, source);
   }
+  CheckJointGraph(*robot, source);
   FileOrder order;
   for (const tinyxml2::XMLElement* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
     if (const char* name = e->Attribute("name")) order.links.emplace_back(name);

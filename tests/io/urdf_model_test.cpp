@@ -326,6 +326,27 @@ TEST(UrdfModelErrors, FormatStringsAndMalformedNumbersAreRefusedBeforeUrdfdom) {
   EXPECT_NE(ErrorOf([&] { ParseUrdf(named, "evil.urdf"); }).find("holds a '%'"), std::string::npos);
 }
 
+// Joints that do not form a tree are refused before urdfdom links them (its links then hold each
+// other by shared pointers and leaked when it refused the file; found by tests/fuzz/urdf_fuzz.cpp).
+TEST(UrdfModelErrors, JointsThatDoNotFormATreeAreRefusedBeforeUrdfdom) {
+  const std::string links = LinkXml("base") + LinkXml("a") + LinkXml("b");
+  const struct { std::string joints, expected; } cases[] = {
+      {JointXml("j", "continuous", "base", "a") + JointXml("k", "continuous", "b", "b"),
+       "joint 'k' (line"},
+      {JointXml("j", "continuous", "base", "a") + JointXml("k", "continuous", "base", "a"),
+       "link 'a' is already the child of joint 'j'"},
+      {JointXml("j", "continuous", "a", "b") + JointXml("k", "continuous", "b", "a"), "the joints form a loop through link"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = ErrorOf([&] { ParseUrdf(RobotXml("r", links + c.joints), "loop.urdf"); });
+    EXPECT_EQ(message.rfind("loop.urdf: ", 0), 0u) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+  EXPECT_NE(ErrorOf([&] { ParseUrdf(RobotXml("r", links + JointXml("k", "continuous", "b", "b")), "self.urdf"); })
+                .find("link 'b' is both its parent and its child"),
+            std::string::npos);
+}
+
 TEST(UrdfModelErrors, InertialWithoutMassIsInvalidAlthoughUrdfdomKeepsIt) {
   const std::string xml = RobotXml(
       "r", LinkXml("a") + LinkXml("forearm", "<inertial><inertia ixx='1' iyy='1' izz='1' ixy='0' ixz='0' iyz='0'/></inertial>") +
