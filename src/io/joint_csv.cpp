@@ -314,6 +314,15 @@ class Parser {
       }
       if (derive_qd_) samples.qd = std::move(sg.first);
       if (derive_qdd_) samples.qdd = std::move(sg.second);
+      // Finite positions can still give derivatives that overflow (huge q over short steps; found by
+      // the joint CSV fuzz harness): refused, as a non-finite cell is.
+      for (Eigen::Index i = 0; i < samples.q.rows(); ++i) {
+        if (!samples.qd.row(i).allFinite() || !samples.qdd.row(i).allFinite()) {
+          throw CsvError(source_ + ": the " + (samples.qd.row(i).allFinite() ? "accelerations" : "velocities") +
+                         " derived from q are not finite at sample " + std::to_string(i) + " (t = " +
+                         std::to_string(samples.t[i]) + " s): q too large for its time steps");
+        }
+      }
       report_.derived_qd = derive_qd_;
       report_.derived_qdd = derive_qdd_;
     }

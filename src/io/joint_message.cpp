@@ -197,6 +197,13 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
   }
   primed_ = true;
   last_t_ = s->t;
+  if (!has_qdd && !s->qdd.allFinite()) {
+    // qd changed too much in too little time for its difference quotient (found by the message
+    // fuzz harness): the sample is refused and the filter starts again at the next message.
+    acceleration_ = CausalAcceleration(static_cast<int>(dofs_.size()), format_.accel_cutoff_hz);
+    if (why) *why = "the acceleration derived from qd is not finite";
+    return MessageRejection::kNonFinite;
+  }
   return MessageRejection::kNone;
 }
 
