@@ -33,8 +33,9 @@ struct SimulatedLogs {
 /// for `seconds` at `rate_hz`; train and test get torque noise sigma_tau, test_clean none.
 inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::VectorXd& x_true, double sigma_tau,
                                   double seconds, std::uint64_t seed, double rate_hz = 500) {
+  const Eigen::VectorXd w = model.Coefficients(x_true);
   const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-    return model.InverseDynamics(x_true, q, qd, qdd);
+    return model.InverseDynamicsFromCoefficients(w, q, qd, qdd);
   };
   JointSimulationOptions options;
   options.duration = seconds;

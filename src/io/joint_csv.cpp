@@ -125,6 +125,13 @@ class Parser {
       throw CsvError(source_ + ": no data rows left after skipping " + std::to_string(report_.skipped_rows) + " bad rows (first: " +
                      first_reason_ + ")");
     }
+    if (rows == 1) {  // no time step: nothing downstream (differentiation, a fit, an estimator's rates) can use it
+      throw CsvError(source_ + ": only 1 data row" +
+                     (report_.skipped_rows > 0 ? " left after skipping " + std::to_string(report_.skipped_rows) +
+                                                     " bad rows (first: " + first_reason_ + ")"
+                                               : std::string()) +
+                     "; a log needs at least 2 samples");
+    }
     return Assemble(rows);
   }
 

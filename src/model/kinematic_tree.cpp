@@ -138,13 +138,23 @@ void KinematicTree::Kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& 
 
 Eigen::VectorXd KinematicTree::InverseDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                const Eigen::VectorXd& qdd, const Vector3& g_base) const {
+  return InverseDynamics(StackedParameters(), q, qd, qdd, g_base);
+}
+
+Eigen::VectorXd KinematicTree::InverseDynamics(const Eigen::VectorXd& pi, const Eigen::VectorXd& q,
+                                               const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                               const Vector3& g_base) const {
   CheckSizes(q, qd, qdd);
+  const int n = num_bodies();
+  if (pi.size() != 10 * n) {
+    throw std::invalid_argument("kinematic tree: " + std::to_string(pi.size()) + " inertial parameters given, " +
+                                std::to_string(10 * n) + " expected (10 per body)");
+  }
   TreeWorkspace ws = MakeWorkspace();
   Kinematics(q, qd, qdd, g_base, &ws);
-  const int n = num_bodies();
   std::vector<Vector6> f(n);
   for (int i = 0; i < n; ++i) {
-    const Matrix6 M = bodies_[i].inertia.spatial_inertia();
+    const Matrix6 M = InertialParams::FromVector(pi.segment<10>(10 * i)).spatial_inertia();
     f[i] = M * ws.a[i] + ForceCross(ws.v[i]) * (M * ws.v[i]);
   }
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(num_dofs_);

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -24,6 +25,25 @@ Matrix3 RotationZTo(const Vector3& axis) {
 bool NonNegative(EffectKind kind) {
   return kind == EffectKind::kViscous || kind == EffectKind::kCoulomb || kind == EffectKind::kArmature ||
          kind == EffectKind::kAsymmetric || kind == EffectKind::kSigmoid;
+}
+
+// The regressor entries of effect term t on its joint (t.size() of them): A(t.dof, t.first_feature + k).
+std::array<double, 2> EffectFeatures(const EffectTerm& t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                     const Eigen::VectorXd& qdd) {
+  const int j = t.dof;
+  switch (t.kind) {
+    case EffectKind::kViscous: return {qd[j], 0.0};
+    case EffectKind::kCoulomb: return {std::tanh(qd[j] / t.velocity_scale), 0.0};
+    case EffectKind::kOffset: return {1.0, 0.0};
+    case EffectKind::kArmature: return {qdd[j], 0.0};
+    case EffectKind::kSpring: return {q[j], -1.0};
+    case EffectKind::kAsymmetric: {
+      const double s = std::tanh(qd[j] / t.velocity_scale);
+      return {std::max(s, 0.0), std::min(s, 0.0)};
+    }
+    case EffectKind::kSigmoid: return {SigmoidFriction(qd[j], t.steepness, t.shift), 0.0};
+    default: return {0.0, 0.0};
+  }
 }
 
 }  // namespace
@@ -185,24 +205,8 @@ void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd
   tree_.JointTorqueRegressor(q, qd, qdd, gravity_, workspace, A.leftCols(num_inertia_features()));
   A.rightCols(num_features_ - num_inertia_features()).setZero();
   for (const EffectTerm& t : effects_) {
-    const int j = t.dof, c = t.first_feature;
-    switch (t.kind) {
-      case EffectKind::kViscous: A(j, c) = qd[j]; break;
-      case EffectKind::kCoulomb: A(j, c) = std::tanh(qd[j] / t.velocity_scale); break;
-      case EffectKind::kOffset: A(j, c) = 1.0; break;
-      case EffectKind::kArmature: A(j, c) = qdd[j]; break;
-      case EffectKind::kSpring: A(j, c) = q[j]; A(j, c + 1) = -1.0; break;
-      case EffectKind::kAsymmetric: {
-        const double s = std::tanh(qd[j] / t.velocity_scale);
-        A(j, c) = std::max(s, 0.0);
-        A(j, c + 1) = std::min(s, 0.0);
-        break;
-      }
-      case EffectKind::kSigmoid:
-        A(j, c) = SigmoidFriction(qd[j], t.steepness, t.shift);
-        break;
-      default: break;
-    }
+    const std::array<double, 2> a = EffectFeatures(t, q, qd, qdd);
+    for (int k = 0; k < t.size(); ++k) A(t.dof, t.first_feature + k) = a[k];
   }
 }
 
@@ -246,9 +250,22 @@ Eigen::VectorXd RobotDynamics::Coefficients(const Eigen::VectorXd& x, Eigen::Mat
 
 Eigen::VectorXd RobotDynamics::InverseDynamics(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
                                                const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) const {
-  Eigen::MatrixXd A(num_dofs(), num_features_);
-  Features(q, qd, qdd, A);
-  return A * Coefficients(x);
+  return InverseDynamicsFromCoefficients(Coefficients(x), q, qd, qdd);
+}
+
+Eigen::VectorXd RobotDynamics::InverseDynamicsFromCoefficients(const Eigen::VectorXd& w, const Eigen::VectorXd& q,
+                                                               const Eigen::VectorXd& qd,
+                                                               const Eigen::VectorXd& qdd) const {
+  if (w.size() != num_features_) {
+    throw std::invalid_argument("robot dynamics: " + std::to_string(w.size()) + " coefficients given, " +
+                                std::to_string(num_features_) + " expected");
+  }
+  Eigen::VectorXd tau = tree_.InverseDynamics(w.head(num_inertia_features()), q, qd, qdd, gravity_);
+  for (const EffectTerm& t : effects_) {
+    const std::array<double, 2> a = EffectFeatures(t, q, qd, qdd);
+    for (int k = 0; k < t.size(); ++k) tau[t.dof] += a[k] * w[t.first_feature + k];
+  }
+  return tau;
 }
 
 Eigen::VectorXd RobotDynamics::ParametersFromEffectCoefficients(const Eigen::VectorXd& c, double floor) const {

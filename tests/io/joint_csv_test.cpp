@@ -85,10 +85,11 @@ TEST(JointCsv, ToleratesCrLfBlankLinesSpacesByteOrderMarkAndPlusSigns) {
 TEST(JointCsv, ExtraColumnsAreIgnoredWithOneNotice) {
   const std::string text =
       "t,q_j1,q_j2,comment,qd_j1,qd_j2,qdd_j1,qdd_j2,tau_j1,tau_j2,temperature,q_j3\n"
-      "0,1,2,hello,3,4,5,6,7,8,n/a,x\n";
+      "0,1,2,hello,3,4,5,6,7,8,n/a,x\n"
+      "0.01,1,2,,3,4,5,6,7,8,,\n";
   JointCsvReport report;
   const JointSamples s = Parse(text, {}, &report);
-  ASSERT_EQ(s.size(), 1);
+  ASSERT_EQ(s.size(), 2);
   EXPECT_EQ(s.tau(0, 1), 8.0);
   ASSERT_EQ(report.notices.size(), 1u);
   EXPECT_EQ(report.notices[0], "log.csv: ignored 3 extra columns: comment, temperature, q_j3");
@@ -190,6 +191,11 @@ TEST(JointCsv, EmptyInputsAreErrors) {
   skip.skip_bad_rows = true;
   EXPECT_EQ(ErrorOf(std::string(kHeader) + "0,1,2,3,4,5,6,7,oops\n", skip),
             "log.csv: no data rows left after skipping 1 bad rows (first: log.csv:2: column 9 'tau_j2': 'oops' is not a number)");
+  // One sample has no time step (found by the fuzz harness, corpus/joint_csv/one_row_ms).
+  EXPECT_EQ(ErrorOf(std::string(kHeader) + "0,1,2,3,4,5,6,7,8\n"), "log.csv: only 1 data row; a log needs at least 2 samples");
+  EXPECT_EQ(ErrorOf(std::string(kHeader) + "0,1,2,3,4,5,6,7,8\n0.001,1,2,3,4,5,6,7,oops\n", skip),
+            "log.csv: only 1 data row left after skipping 1 bad rows (first: log.csv:3: column 9 'tau_j2': 'oops' is not "
+            "a number); a log needs at least 2 samples");
 }
 
 TEST(JointCsv, InvalidJointNamesAreRejected) {
@@ -502,9 +508,9 @@ TEST(JointCsv, TimeStampsThatAreNotSecondsAreRefused) {
 }
 
 TEST(JointCsv, PlausibleSecondsAreAccepted) {
-  // 1 kHz from an epoch, 10 kHz, 1 Hz with fractions, one row; the median ignores a few long gaps.
+  // 1 kHz from an epoch, 10 kHz, 1 Hz with fractions; the median ignores a few long gaps.
   for (const std::vector<std::string>& stamps :
-       {Stamps(1700000000.001, 1e-3, 5), Stamps(0.0, 1e-4, 5), Stamps(0.5, 1.0, 4), std::vector<std::string>{"3"},
+       {Stamps(1700000000.001, 1e-3, 5), Stamps(0.0, 1e-4, 5), Stamps(0.5, 1.0, 4),
         std::vector<std::string>{"0.001", "0.002", "7", "8", "8.001", "8.002", "8.003"}}) {
     const JointSamples s = Parse(StampedLog(stamps));
     EXPECT_EQ(s.size(), static_cast<int>(stamps.size()));

@@ -55,8 +55,13 @@ TEST(KinematicTree, RegressorTimesParametersEqualsInverseDynamics) {
     const Eigen::VectorXd qdd = Eigen::VectorXd::NullaryExpr(6, [&] { return rng.Uniform(-3, 3); });
     const Vector3 g = rng.UniformVector<3>(-10, 10);
     const Eigen::VectorXd tau = tree.InverseDynamics(q, qd, qdd, g);
-    const Eigen::VectorXd tau_Y = tree.JointTorqueRegressor(q, qd, qdd, g) * tree.StackedParameters();
+    const Eigen::MatrixXd Y = tree.JointTorqueRegressor(q, qd, qdd, g);
+    const Eigen::VectorXd tau_Y = Y * tree.StackedParameters();
     EXPECT_LT((tau - tau_Y).cwiseAbs().maxCoeff(), 1e-11 * (1.0 + tau.cwiseAbs().maxCoeff()));
+    // Newton-Euler with given parameters, consistent or not (the map is linear in pi).
+    const Eigen::VectorXd pi = Eigen::VectorXd::NullaryExpr(Y.cols(), [&] { return rng.Uniform(-1, 1); });
+    const Eigen::VectorXd tau_pi = tree.InverseDynamics(pi, q, qd, qdd, g), Y_pi = Y * pi;
+    EXPECT_LT((tau_pi - Y_pi).cwiseAbs().maxCoeff(), 1e-11 * (1.0 + Y_pi.cwiseAbs().maxCoeff()));
   }
 }
 
@@ -164,6 +169,8 @@ TEST(KinematicTree, RejectsBadInput) {
   tree.AddBody("a", -1, j, SolidSphere(1, 0.1));
   const Eigen::VectorXd two = Eigen::VectorXd::Zero(2);
   EXPECT_THROW(tree.InverseDynamics(two, two, two), std::invalid_argument);
+  const Eigen::VectorXd one = Eigen::VectorXd::Zero(1);
+  EXPECT_THROW(tree.InverseDynamics(Eigen::VectorXd::Zero(9), one, one, one, Vector3::Zero()), std::invalid_argument);
 }
 
 }  // namespace

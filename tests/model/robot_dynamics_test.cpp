@@ -235,6 +235,40 @@ TEST(RobotDynamics, RotorReflectsItsInertia) {
   EXPECT_NEAR(extra[0], 64.0 * Ir * 2.0, 1e-12);
 }
 
+// Two independent algorithms for tau: the regressor A(q, qd, qdd) w(x) (body wrenches linear in pi
+// carried up the tree) and recursive Newton-Euler on the bodies of w plus the effect terms, with
+// rotors, a payload and every joint-effect kind, at random parameters and states; and from
+// coefficients that are not physically consistent (the map is linear in w).
+TEST(RobotDynamics, NewtonEulerAgreesWithTheRegressor) {
+  Rng rng(29);
+  const KinematicTree tree = Chain(rng);
+  SpatialTransform tool;
+  tool.p_AB = Vector3(0.05, 0.1, -0.1);
+  const RobotDynamics model(
+      tree, kJoints,
+      ParseEffectList("rotor@j0:gear=8,rotor@j1:gear=-5,payload@tool,viscous@j0,coulomb@j1:scale=0.2,offset@j2,"
+                      "armature@j0,spring@j1,asymmetric@j2,sigmoid@j0"),
+      ChainLinks(tool));
+  Eigen::MatrixXd A(3, model.num_features());
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(model.num_parameters(), [&] { return rng.Uniform(-1, 1); });
+    const Eigen::VectorXd q = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-2, 2); });
+    const Eigen::VectorXd qd = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-2, 2); });
+    const Eigen::VectorXd qdd = Eigen::VectorXd::NullaryExpr(3, [&] { return rng.Uniform(-2, 2); });
+    model.Features(q, qd, qdd, A);
+    const Eigen::VectorXd expected = A * model.Coefficients(x);
+    EXPECT_LT((model.InverseDynamics(x, q, qd, qdd) - expected).norm(), 1e-12 * (1 + expected.norm())) << trial;
+    const Eigen::VectorXd w = Eigen::VectorXd::NullaryExpr(model.num_features(), [&] { return rng.Uniform(-1, 1); });
+    const Eigen::VectorXd expected_w = A * w;
+    EXPECT_LT((model.InverseDynamicsFromCoefficients(w, q, qd, qdd) - expected_w).norm(),
+              1e-12 * (1 + expected_w.norm()))
+        << trial;
+  }
+  EXPECT_THROW(model.InverseDynamicsFromCoefficients(Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3),
+                                                     Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3)),
+               std::invalid_argument);
+}
+
 TEST(RobotDynamics, CoefficientJacobianMatchesFiniteDifferences) {
   Rng rng(25);
   const KinematicTree tree = Chain(rng);

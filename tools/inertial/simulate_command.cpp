@@ -152,8 +152,9 @@ int RunSimulateCommand(const SimulateCommand& c) {
   std::uniform_real_distribution<double> uniform(-perturb, perturb);
   for (int i = 0; i < 10 * static_cast<int>(model->bodies().size()); ++i) x[i] = perturb > 0 ? uniform(rng) : 0.0;
 
+  const Eigen::VectorXd w = model->Coefficients(x);  // once: the plant is called four times per RK4 step and DOF
   const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-    return model->InverseDynamics(x, q, qd, qdd);
+    return model->InverseDynamicsFromCoefficients(w, q, qd, qdd);
   };
   JointSimulationOptions options;
   options.duration = duration;

@@ -25,8 +25,8 @@
 /// (a wrong number of cells, a non-numeric or non-finite cell, non-increasing time, a conflicting
 /// duplicate) are errors by default; with skip_bad_rows they are skipped and counted, and one notice
 /// gives their number, the first few line numbers and the first reason. Missing columns are listed
-/// all in one message. An empty file, a header without data rows, or no rows left after skipping are
-/// errors.
+/// all in one message. An empty file, a header without data rows, or fewer than 2 rows (left after
+/// skipping) are errors: one sample has no time step.
 #pragma once
 
 #include <Eigen/Core>

@@ -81,6 +81,12 @@ class KinematicTree {
   /// Joint torques/forces by recursive Newton-Euler. Sizes must be num_dofs().
   Eigen::VectorXd InverseDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                                   const Vector3& g_base = Vector3(0, 0, -9.81)) const;
+  /// The same with every body's pi taken from `pi` (10 per body, in body order, as
+  /// StackedParameters()) instead of the tree's own: Y(q, qd, qdd) pi in O(bodies) instead of the
+  /// regressor's O(bodies x depth x 10). pi need not be physically consistent (the map is linear).
+  /// @throws std::invalid_argument on wrong sizes.
+  Eigen::VectorXd InverseDynamics(const Eigen::VectorXd& pi, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                  const Eigen::VectorXd& qdd, const Vector3& g_base) const;
 
   /// Y (num_dofs x 10 num_bodies) with tau = Y StackedParameters(). O(bodies x depth).
   Eigen::MatrixXd JointTorqueRegressor(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,

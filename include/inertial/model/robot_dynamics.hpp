@@ -89,9 +89,14 @@ class RobotDynamics {
   TreeWorkspace MakeWorkspace() const { return tree_.MakeWorkspace(); }
   /// w(x) and (optionally) J_w_x (num_features x num_parameters, block diagonal per body/effect).
   Eigen::VectorXd Coefficients(const Eigen::VectorXd& x, Eigen::MatrixXd* J_w_x = nullptr) const;
-  /// tau = A(q, qd, qdd) w(x).
+  /// tau = A(q, qd, qdd) w(x), by recursive Newton-Euler on the bodies of w plus the effect terms
+  /// (O(bodies), not the regressor's O(bodies x depth x 10)).
   Eigen::VectorXd InverseDynamics(const Eigen::VectorXd& x, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                   const Eigen::VectorXd& qdd) const;
+  /// The same from coefficients w = Coefficients(x) computed once: what a simulator calls at every
+  /// step. @throws std::invalid_argument on wrong sizes.
+  Eigen::VectorXd InverseDynamicsFromCoefficients(const Eigen::VectorXd& w, const Eigen::VectorXd& q,
+                                                  const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) const;
 
   /// x from effect coefficients w_e (one value per effect feature, as in w): theta = 0 for every
   /// body; non-negative coefficients floored at `floor` before the log; spring q0 = (k q0) / k.
