@@ -25,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const GlitchScreen screen = FindGlitches(BodySignals(log));
   const BodyLog kept = SelectBodySamples(log, RowsExcept(static_cast<int>(N), screen.Rows()));
-  OnlineBodyEstimator e(InertialParams::FromVector((Vector10() << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0).finished()));
+  OnlineBodyEstimator e(fuzz::UnitBody());
   for (std::size_t i = 0; i < std::min<std::size_t>(kept.samples.size(), 32); ++i) {
     BodySample s;
     s.t = kept.samples[i].t;

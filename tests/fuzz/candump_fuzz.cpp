@@ -3,7 +3,6 @@
 // online estimator, which must stay consistent.
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "fuzz_support.hpp"
 #include "inertial/io/can_frame.hpp"

@@ -44,6 +44,11 @@ inline const RobotDynamics& LegDynamics() {
   return model;
 }
 
+/// The prior of the single-body harnesses: 1 kg at the origin, unit second moments.
+inline InertialParams UnitBody() {
+  return InertialParams::FromVector((Vector10() << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0).finished());
+}
+
 /// Every body of the estimate finite and physically consistent (the estimator's promise).
 inline void RequireConsistent(const OnlineJointEstimator& e, const char* after) {
   if (!e.coefficients().allFinite()) Fail(std::string("a coefficient is not finite after ") + after);

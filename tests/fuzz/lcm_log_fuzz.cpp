@@ -3,7 +3,6 @@
 // events of the default channel through the leg's online estimator, which must stay consistent.
 #include <cstdio>
 #include <fstream>
-#include <unistd.h>
 
 #include "fuzz_support.hpp"
 #include "inertial/io/log_replay.hpp"

@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* message = nullptr;
   std::size_t length = 0;
   if (layout == 2) {
-    OnlineBodyEstimator e(InertialParams::FromVector((Vector10() << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0).finished()));
+    OnlineBodyEstimator e(fuzz::UnitBody());
     while (next(&message, &length)) {
       BodySample s;
       if (DecodeBodyWrench(message, length, &s) == MessageRejection::kNone) {
