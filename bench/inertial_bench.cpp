@@ -12,10 +12,10 @@
 #include <cmath>
 #include <memory>
 
+#include "examples/bundled_robots.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
-#include "inertial/io/identification_report.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 
@@ -24,13 +24,13 @@ namespace {
 
 constexpr int kSamples = 1000;
 
+// The bundled robots written out in code (the URDFs' own, tests/io/bundled_robots_test.cpp): this
+// program uses the core alone, so that it builds for the robot's computer (scripts/cross-aarch64.sh).
 RobotDynamics Robot(const std::string& model) {
-  const std::string dir = std::string(INERTIAL_SOURCE_DIR) + "/examples/";
   if (model == "leg3") {
-    return MakeRobotDynamics(LoadUrdf(dir + "leg3.urdf"),
-                             ParseEffectList("viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9.33"));
+    return examples::Leg3().Dynamics("viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9.33");
   }
-  return MakeRobotDynamics(LoadUrdf(dir + "arm7.urdf"), ParseEffectList("viscous,coulomb"));
+  return examples::Arm7().Dynamics("viscous,coulomb");
 }
 
 // Samples of a Fourier-series motion with torques of a robot 10 % off the prior (x = 0.1), plus

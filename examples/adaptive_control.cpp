@@ -1,6 +1,6 @@
 // Embedding the online estimator in a control loop, with the embeddable core alone (Eigen, no
-// files, no I/O library: the package's inertial::estimation): a simulated 7-DOF arm with the
-// kinematics and masses of examples/arm7.urdf, written out in code, carries an unknown 2 kg payload
+// files, no I/O library: the package's inertial::estimation): a simulated 7-DOF arm, the one of
+// examples/arm7.urdf written out in code (bundled_robots.hpp), carries an unknown 2 kg payload
 // on its flange; the controller is computed-torque control with the current estimate (tau = A(q,
 // qd, qdd_ref + Kp e + Kd de) w_hat, the estimated robot's inverse dynamics), and the recursive
 // Gauss-Newton estimator learns the payload from every control tick. The tracking error falls as
@@ -19,56 +19,11 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
-
+#include "bundled_robots.hpp"  // next to this file
 #include "inertial/estimation/online_joint_estimator.hpp"
-#include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
-#include "inertial/model/robot_dynamics.hpp"
 
 using namespace inertial;
-
-namespace {
-
-// URDF's roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
-Matrix3 Rpy(double roll, double pitch, double yaw) {
-  return (Eigen::AngleAxisd(yaw, Vector3::UnitZ()) * Eigen::AngleAxisd(pitch, Vector3::UnitY()) *
-          Eigen::AngleAxisd(roll, Vector3::UnitX()))
-      .toRotationMatrix();
-}
-
-// The arm of examples/arm7.urdf: every joint turns about its frame's z axis; each link a solid
-// cylinder (mass, radius, length) about its COM frame.
-struct LinkRow {
-  Vector3 joint_xyz, joint_rpy, com_xyz, com_rpy;
-  double mass, radius, length;
-};
-
-KinematicTree Arm7() {
-  constexpr double p = 3.141592653589793, h = p / 2;
-  const LinkRow rows[7] = {
-      {{0, 0, 0.1575}, {0, 0, 0}, {0, -0.03, 0.12}, {0, 0, 0}, 4.0, 0.07, 0.20},
-      {{0, 0, 0.2025}, {h, 0, p}, {0.0003, 0.059, 0.042}, {-h, 0, 0}, 4.0, 0.07, 0.20},
-      {{0, 0.2045, 0}, {h, 0, p}, {0, 0.03, 0.13}, {0, 0, 0}, 3.0, 0.065, 0.20},
-      {{0, 0, 0.2155}, {h, 0, 0}, {0, 0.067, 0.034}, {-h, 0, 0.2}, 2.7, 0.065, 0.20},
-      {{0, 0.1845, 0}, {-h, p, 0}, {0.0001, 0.021, 0.076}, {0, 0, 0}, 1.7, 0.055, 0.18},
-      {{0, 0, 0.2155}, {h, 0, 0}, {0, 0.0006, 0.0004}, {h, 0, 0}, 1.8, 0.055, 0.10},
-      {{0, 0.081, 0}, {-h, p, 0}, {0, 0, 0.02}, {0, 0, 0}, 0.5, 0.04, 0.04},
-  };
-  KinematicTree tree;
-  for (int i = 0; i < 7; ++i) {
-    const LinkRow& r = rows[i];
-    JointModel joint;
-    joint.name = "joint" + std::to_string(i + 1);
-    joint.R_parent_joint = Rpy(r.joint_rpy[0], r.joint_rpy[1], r.joint_rpy[2]);
-    joint.p_parent_joint = r.joint_xyz;
-    const Pose com{Rpy(r.com_rpy[0], r.com_rpy[1], r.com_rpy[2]), r.com_xyz};
-    tree.AddBody("link" + std::to_string(i + 1), i - 1, joint, SolidCylinder(r.mass, r.radius, r.length, com));
-  }
-  return tree;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 10.0;
@@ -79,24 +34,7 @@ int main(int argc, char** argv) {
   // The model the controller and estimator know: the arm's links plus a payload of unknown inertia
   // on tool0, the flange 4.5 cm along link7's z (prior: a 0.5 kg sphere). The truth: the same links
   // with a 2 kg body 5 cm off the flange.
-  const KinematicTree links = Arm7();
-  std::vector<std::string> joints;
-  for (int i = 0; i < links.num_bodies(); ++i) joints.push_back(links.joint(i).name);
-  const LinkResolver resolve = [&links](const std::string& link, LinkLocation* where) {
-    if (link == "tool0") {
-      where->body = links.num_bodies() - 1;
-      where->link_in_body.p_AB = Vector3(0, 0, 0.045);
-      return true;
-    }
-    for (int i = 0; i < links.num_bodies(); ++i) {
-      if (links.body_name(i) == link) {
-        *where = LinkLocation{i, SpatialTransform()};
-        return true;
-      }
-    }
-    return false;
-  };
-  const RobotDynamics model(links, joints, ParseEffectList("payload@tool0:mass=0.5"), resolve);
+  const RobotDynamics model = examples::Arm7().Dynamics("payload@tool0:mass=0.5");
   const int n = model.num_dofs(), payload = static_cast<int>(model.bodies().size()) - 1;
   Eigen::VectorXd x_true = Eigen::VectorXd::Zero(model.num_parameters());
   x_true.segment<10>(10 * payload) << 0.693, 0.2, -0.3, 0.4, 0.1, 0.0, 0.0, 0.01, -0.01, 0.05;  // ~2 kg
