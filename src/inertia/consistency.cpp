@@ -50,7 +50,10 @@ ConsistencyReport CheckConsistency(const InertialParams& body, double relative_t
     const double t1 = D[0] + D[2] - D[1];
     const double t2 = D[0] + D[1] - D[2];
     r.min_triangle_margin = std::min({t0, t1, t2});
-    const double scale = std::max(std::abs(D[2]), std::numeric_limits<double>::min());
+    // The moments at the COM come from those at the origin less m c c^T: their rounding is relative
+    // to the origin's inertia, not to D itself (a point mass away from the origin has D of pure
+    // rounding noise, whose sign differs between x86 and Arm). So the scale is the larger of the two.
+    const double scale = std::max({std::abs(D[2]), origin_scale, std::numeric_limits<double>::min()});
     r.inertia_positive_definite_com = D[0] > relative_tolerance * scale;
     r.triangle_inequalities = r.min_triangle_margin > relative_tolerance * scale;
     if (!r.inertia_positive_definite_com) {

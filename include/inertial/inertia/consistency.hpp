@@ -54,9 +54,10 @@ struct ConsistencyReport {
 };
 
 /// Checks every condition. A margin counts as positive only if it exceeds
-/// relative_tolerance * scale, where scale is the largest principal moment at the COM (inertia
-/// conditions) or the largest eigenvalue of J; so point, rod and plate bodies, whose margins are
-/// zero up to rounding, are reported as not fully consistent. The mass must be > 0 (strictly).
+/// relative_tolerance * scale, where scale is the largest principal moment at the COM or, if larger,
+/// at the origin (inertia conditions: the COM's moments are the origin's less m c c^T and carry their
+/// rounding), or the largest eigenvalue of J; so point, rod and plate bodies, whose margins are zero
+/// up to rounding, are reported as not fully consistent on every machine. The mass must be > 0 (strictly).
 ConsistencyReport CheckConsistency(const InertialParams& body, double relative_tolerance = 1e-12);
 
 /// Short form: CheckConsistency(body).fully_consistent().
