@@ -41,6 +41,16 @@ fi
 echo "installed $(find "$work/prefix" -type f | wc -l) files"
 
 echo "== 3. every installed header against the prefix and Eigen only"
+# The compiler still searches /usr/include (where this machine has JSON, YAML and LCM headers), so
+# first every include of the installed headers by name: the standard library (no slash), Eigen, or
+# a header of the installed layers.
+bad=$(cd "$work/prefix/include" && grep -rhoE '^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"][^>"]+[>"]' inertial |
+  sed -E 's/.*include[[:space:]]*//' |
+  grep -vE '^<[A-Za-z0-9_]+>$|^<Eigen/[A-Za-z]+>$|^"inertial/(inertia|model|estimation|study)/[a-z0-9_]+\.hpp"$' | sort -u || true)
+if [ -n "$bad" ]; then
+  echo "FAIL: installed headers include what is not the standard library, Eigen or the core: $bad"
+  exit 1
+fi
 (cd "$work/prefix/include" && find inertial -name '*.hpp' | sort | sed 's/.*/#include "&"/') >"$work/all_headers.cpp"
 includes=(-I"$work/prefix/include")
 IFS=';' read -r -a eigen_dirs <<<"$eigen"
