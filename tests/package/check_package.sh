@@ -8,7 +8,9 @@
 # 3. every installed header compiles against the prefix and Eigen only (so none includes a header
 #    that is not installed);
 # 4. examples/adaptive_control.cpp builds out of tree with find_package(inertial 0.1) and
-#    inertial::estimation, and runs: the tracking error falls as the payload is learned.
+#    inertial::estimation, and runs: the tracking error falls as the payload is learned;
+# 5. the full install adds the I/O layer (inertial::io, with its dependencies found again) and the
+#    programs: a small tool links inertial::io and loads a URDF.
 # usage: check_package.sh SOURCE_DIR BUILD_DIR WORK_DIR CXX "CXX_FLAGS" EIGEN_INCLUDE_DIRS
 set -euo pipefail
 src=$1 build=$2 work=$3 cxx=$4 flags=$5 eigen=$6
@@ -71,4 +73,16 @@ awk 'NR == 1 { truth = $3 } NR > 2 { t = $1; fixed = $2; adaptive = $3; mass = $
      END { ok = adaptive < 0.01 * fixed && (mass - truth) ^ 2 < (0.01 * truth) ^ 2;
            printf "at %.2f s: tracking RMS fixed %.6f, adaptive %.6f; mass %.4f of %.4f kg: %s\n",
                   t, fixed, adaptive, mass, truth, ok ? "ok" : "FAIL"; exit !ok }' "$work/adaptive.txt"
+echo "== 5. the full install: the I/O layer and the programs"
+cmake --install "$build" --prefix "$work/full" >"$work/install-full.log"
+for f in bin/inertial bin/inertiald lib/libinertial_io.a lib/cmake/inertial/inertialIoTargets.cmake \
+         include/inertial/io/urdf_model.hpp; do
+  [ -e "$work/full/$f" ] || { echo "FAIL: the full install has no $f"; exit 1; }
+done
+cmake -S "$src/tests/package/consumer_io" -B "$work/consumer_io" -DCMAKE_PREFIX_PATH="$work/full" \
+  -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_BUILD_TYPE=Release >"$work/consumer_io-configure.log"
+cmake --build "$work/consumer_io" >"$work/consumer_io-build.log"
+joints=$("$work/consumer_io/count_joints" "$src/examples/arm7.urdf")
+[ "$joints" = 7 ] || { echo "FAIL: inertial::io loaded $joints joints of arm7.urdf, not 7"; exit 1; }
+echo "inertial::io from the full install: arm7.urdf has $joints joints"
 echo "PASS"
