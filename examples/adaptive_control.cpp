@@ -22,6 +22,7 @@
 #include "bundled_robots.hpp"  // next to this file
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
+#include "inertial/model/joint_simulation.hpp"
 
 using namespace inertial;
 
@@ -57,14 +58,13 @@ int main(int argc, char** argv) {
     TreeWorkspace workspace = model.MakeWorkspace();
     Eigen::MatrixXd A(n, model.num_features());
     JointSample sample{0.0, Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n)};
-    // The plant: the true robot's forward dynamics (mass matrix from the inverse dynamics' columns).
+    // The plant: the true robot's forward dynamics (its inverse dynamics from coefficients computed once).
+    const Eigen::VectorXd w_true = model.Coefficients(x_true);
+    const JointDynamicsFn true_robot = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv, const Eigen::VectorXd& aa) {
+      return model.InverseDynamicsFromCoefficients(w_true, qq, vv, aa);
+    };
     auto plant_qdd = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv, const Eigen::VectorXd& tt) {
-      const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
-      const Eigen::VectorXd bias = model.InverseDynamics(x_true, qq, vv, zero);
-      const Eigen::VectorXd gravity = model.InverseDynamics(x_true, qq, zero, zero);
-      Eigen::MatrixXd M(n, n);
-      for (int k = 0; k < n; ++k) M.col(k) = model.InverseDynamics(x_true, qq, zero, Eigen::VectorXd::Unit(n, k)) - gravity;
-      return Eigen::VectorXd(M.ldlt().solve(tt - bias));
+      return ForwardDynamics(true_robot, qq, vv, tt);
     };
     double sum_sq = 0;
     int count = 0;

@@ -10,12 +10,11 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/joint_effect.hpp"
 #include "inertial/model/kinematic_tree.hpp"
 #include "inertial/model/robot_dynamics.hpp"
+#include "inertial/model/rotation_from_rpy.hpp"
 
 namespace inertial::examples {
 
@@ -44,24 +43,17 @@ struct BundledRobot {
 
 namespace detail {
 
-/// URDF's roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
-inline Matrix3 Rpy(double roll, double pitch, double yaw) {
-  return (Eigen::AngleAxisd(yaw, Vector3::UnitZ()) * Eigen::AngleAxisd(pitch, Vector3::UnitY()) *
-          Eigen::AngleAxisd(roll, Vector3::UnitX()))
-      .toRotationMatrix();
-}
-
 inline JointModel Revolute(const std::string& name, const Vector3& xyz, const Vector3& rpy, const Vector3& axis) {
   JointModel j;
   j.name = name;
   j.type = JointType::kRevolute;
   j.p_parent_joint = xyz;
-  j.R_parent_joint = Rpy(rpy[0], rpy[1], rpy[2]);
+  j.R_parent_joint = RotationFromRpy(rpy);
   j.axis = axis;
   return j;
 }
 
-inline Pose At(const Vector3& xyz, const Vector3& rpy) { return Pose{Rpy(rpy[0], rpy[1], rpy[2]), xyz}; }
+inline Pose At(const Vector3& xyz, const Vector3& rpy) { return Pose{RotationFromRpy(rpy), xyz}; }
 
 inline BundledRobot Finish(KinematicTree links, const std::string& base,
                            std::vector<std::pair<std::string, LinkLocation>> extra) {

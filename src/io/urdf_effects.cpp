@@ -10,6 +10,7 @@
 
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/io/number_parsing.hpp"
+#include "inertial/model/rotation_from_rpy.hpp"
 #include "inertial/io/urdf_model.hpp"
 
 namespace inertial::detail {
@@ -112,10 +113,7 @@ InertialParams ReadInertialElement(const tinyxml2::XMLElement& inertial, const s
   const double izz = Attribute(*inertia, "izz", where), ixy = Attribute(*inertia, "ixy", where);
   const double iyz = Attribute(*inertia, "iyz", where), ixz = Attribute(*inertia, "ixz", where);
   I_C << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
-  // URDF rpy: fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
-  const Matrix3 R = (Eigen::AngleAxisd(rpy.z(), Vector3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vector3::UnitY()) *
-                     Eigen::AngleAxisd(rpy.x(), Vector3::UnitX()))
-                        .toRotationMatrix();
+  const Matrix3 R = RotationFromRpy(rpy);
   const InertialParams pi = InertialParams::FromMassComInertia(m, xyz, R * I_C * R.transpose());
   const ConsistencyReport report = CheckConsistency(pi);
   if (!report.fully_consistent()) {
