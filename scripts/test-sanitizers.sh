@@ -18,7 +18,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 for s in /usr/lib/llvm-14/bin/llvm-symbolizer /usr/bin/llvm-symbolizer; do
   if [ -x "$s" ]; then export ASAN_SYMBOLIZER_PATH="$s"; break; fi
 done
-# Every test, at the size it has in the normal build (the slowest take 20-100 s here: the
+# Every test, at the size it has in the normal build (the slowest take 20-170 s here: the
 # simulator's plant is Newton-Euler on the true bodies, not the regressor).
 ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" "$@"
 # A fixed number of inputs from a fixed seed: the same inputs on every machine, so a CI result can be

@@ -12,5 +12,5 @@ if [ "${INERTIAL_SANITIZERS:-1}" != "0" ]; then
   scripts/test-sanitizers.sh "$@"
 fi
 # The embedded target (scripts/cross-aarch64.sh: the core, its tests and the benchmarks for 64-bit
-# Arm, tests under qemu) is not part of this command yet: two of the core's 189 tests fail there
+# Arm, tests under qemu) is not part of this command yet: one of the core's 189 tests fails there
 # (README, "On the robot's computer"); it joins when they hold on both machines.
