@@ -3,8 +3,7 @@
 # the benchmarks (bench/inertial_bench: per-tick latency) for 64-bit Arm into ./build-aarch64, then
 # runs the core's tests under qemu-aarch64 (CTest prepends the emulator; cmake/aarch64-linux-gnu.cmake).
 # Installs what it needs from Debian first: the cross compiler, qemu-user, and the arm64 GoogleTest
-# and Google Benchmark packages through multiarch. Not yet part of scripts/test.sh (one core test
-# fails on Arm: README, "On the robot's computer"); extra
+# and Google Benchmark packages through multiarch. Part of scripts/test.sh (and so of CI); extra
 # arguments go to ctest. Copy build-aarch64/bench/inertial_bench to the robot's computer and run it
 # there for the real latency (README, "On the robot's computer").
 set -euo pipefail
