@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "inertial/estimation/savitzky_golay.hpp"
-#include "inertial/io/joint_csv.hpp"
+#include "inertial/formats/joint_csv.hpp"
 
 namespace inertial {
 namespace {

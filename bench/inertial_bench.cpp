@@ -24,7 +24,7 @@ namespace {
 
 constexpr int kSamples = 1000;
 
-// The bundled robots written out in code (the URDFs' own, tests/io/bundled_robots_test.cpp): this
+// The bundled robots written out in code (the URDFs' own, tests/formats/bundled_robots_test.cpp): this
 // program uses the core alone, so that it builds for the robot's computer (scripts/cross-aarch64.sh).
 RobotDynamics Robot(const std::string& model) {
   if (model == "leg3") {

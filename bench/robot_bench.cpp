@@ -6,7 +6,7 @@
 #include <random>
 
 #include "inertial/estimation/joint_diagnosis.hpp"
-#include "inertial/io/identification_report.hpp"
+#include "inertial/report/identification_report.hpp"
 
 namespace inertial {
 namespace {

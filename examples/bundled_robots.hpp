@@ -2,7 +2,7 @@
 /// The bundled robots of examples/leg3.urdf and examples/arm7.urdf written out in code, for
 /// programs that use the embeddable core alone (no URDF reader, no file): examples/adaptive_control.cpp
 /// and bench/inertial_bench.cpp (built for the robot's own computer). Each link is the plain solid
-/// shape its URDF comment gives; tests/io/bundled_robots_test.cpp checks every joint and inertia
+/// shape its URDF comment gives; tests/formats/bundled_robots_test.cpp checks every joint and inertia
 /// against the URDF as the I/O layer loads it.
 #pragma once
 

@@ -1,6 +1,6 @@
 // Uncertainty of the batch identification (fit_uncertainty.hpp) and the body quantities' Jacobian
 // (MassComInertiaAboutCom, parameter_layout.hpp). The Monte Carlo check on the bundled leg is in
-// tests/io/fit_uncertainty_monte_carlo_test.cpp (it reads the URDF).
+// tests/formats/fit_uncertainty_monte_carlo_test.cpp (it reads the URDF).
 #include "inertial/estimation/fit_uncertainty.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Outlier rejection in batch identification (outlier_rejection.hpp), on a leg-like chain built in
-// code (the core has no URDF reader; tests/io/robust_identification_test.cpp uses the bundled leg).
+// code (the core has no URDF reader; tests/formats/robust_identification_test.cpp uses the bundled leg).
 #include "inertial/estimation/outlier_rejection.hpp"
 
 #include <gtest/gtest.h>

@@ -4,8 +4,9 @@
 
 #include "fuzz_support.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/estimation/outlier_rejection.hpp"
 #include "inertial/estimation/sample_glitches.hpp"
-#include "inertial/io/body_csv.hpp"
+#include "inertial/formats/body_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

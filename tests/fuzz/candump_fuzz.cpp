@@ -5,9 +5,10 @@
 #include <sstream>
 
 #include "fuzz_support.hpp"
-#include "inertial/io/can_frame.hpp"
-#include "inertial/io/log_replay.hpp"
-#include "inertial/io/motor_codec.hpp"
+#include "inertial/config/motors_yaml.hpp"
+#include "inertial/transport/can_frame.hpp"
+#include "inertial/runtime/log_replay.hpp"
+#include "inertial/transport/motor_codec.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

@@ -2,7 +2,7 @@
 // Gauss-Newton estimator as the daemon does at start; a state that is restored must leave a finite,
 // consistent estimate that later samples keep so.
 #include "fuzz_support.hpp"
-#include "inertial/io/estimator_state_file.hpp"
+#include "inertial/formats/estimator_state_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

@@ -2,8 +2,8 @@
 // applied to the options; an accepted message format must then build the leg's decoder or be
 // refused by name, as the daemon's start does.
 #include "fuzz_support.hpp"
-#include "inertial/io/estimation_daemon.hpp"
-#include "inertial/io/joint_message.hpp"
+#include "inertial/runtime/estimation_daemon.hpp"
+#include "inertial/transport/joint_message.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

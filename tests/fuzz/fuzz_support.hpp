@@ -12,8 +12,8 @@
 
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/inertia/consistency.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/urdf_model.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/formats/urdf_model.hpp"
 
 namespace inertial::fuzz {
 

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "fuzz_support.hpp"
-#include "inertial/io/joint_csv.hpp"
+#include "inertial/formats/joint_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "fuzz_support.hpp"
-#include "inertial/io/log_replay.hpp"
+#include "inertial/runtime/log_replay.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

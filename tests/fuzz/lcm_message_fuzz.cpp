@@ -1,20 +1,21 @@
 // Fuzz harness: LCM messages of every layout inertiald reads, as a stream into one decoder and
 // estimator (the daemon's state carries from message to message: time order, the acceleration
 // filter). Byte 0 chooses the layout: 0 inertial.joint_state_t, 1 a user's type described in JSON
-// (tests/io/data/leg_control_data_lcmt.json: fixed float arrays of 12 joints, no names, no time),
+// (tests/transport/data/leg_control_data_lcmt.json: fixed float arrays of 12 joints, no names, no time),
 // 2 inertial.body_wrench_t. The rest is messages, each a 2-byte big-endian length and its bytes.
 #include <fstream>
 
 #include "fuzz_support.hpp"
+#include "inertial/config/message_format.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/io/body_message.hpp"
-#include "inertial/io/joint_message.hpp"
+#include "inertial/transport/body_message.hpp"
+#include "inertial/transport/joint_message.hpp"
 
 namespace {
 
 const inertial::JointMessageFormat& UserFormat() {
   static const inertial::JointMessageFormat format = [] {
-    std::ifstream in(std::string(INERTIAL_SOURCE_DIR) + "/tests/io/data/leg_control_data_lcmt.json");
+    std::ifstream in(std::string(INERTIAL_SOURCE_DIR) + "/tests/transport/data/leg_control_data_lcmt.json");
     return inertial::ParseJointMessageFormat(nlohmann::json::parse(in));
   }();
   return format;

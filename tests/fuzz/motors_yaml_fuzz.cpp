@@ -3,8 +3,9 @@
 #include <cmath>
 
 #include "fuzz_support.hpp"
-#include "inertial/io/can_joint_assembler.hpp"
-#include "inertial/io/motor_codec.hpp"
+#include "inertial/config/motors_yaml.hpp"
+#include "inertial/transport/can_joint_assembler.hpp"
+#include "inertial/transport/motor_codec.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

@@ -36,7 +36,7 @@ for f in lib/libinertial_inertia.a lib/libinertial_model.a lib/libinertial_estim
          lib/cmake/inertial/inertialCoreTargets.cmake include/inertial/estimation/online_joint_estimator.hpp; do
   [ -e "$work/prefix/$f" ] || { echo "FAIL: $f was not installed"; exit 1; }
 done
-if [ -e "$work/prefix/include/inertial/io" ] || [ -e "$work/prefix/lib/libinertial_io.a" ]; then
+if ls -d "$work"/prefix/include/inertial/{formats,transport,config,report,runtime} "$work"/prefix/lib/libinertial_{formats,transport,config,report,runtime}.a 2>/dev/null | grep -q .; then
   echo "FAIL: the core component installed the I/O layer"
   exit 1
 fi
@@ -75,8 +75,8 @@ awk 'NR == 1 { truth = $3 } NR > 2 { t = $1; fixed = $2; adaptive = $3; mass = $
                   t, fixed, adaptive, mass, truth, ok ? "ok" : "FAIL"; exit !ok }' "$work/adaptive.txt"
 echo "== 5. the full install: the I/O layer and the programs"
 cmake --install "$build" --prefix "$work/full" >"$work/install-full.log"
-for f in bin/inertial bin/inertiald lib/libinertial_io.a lib/cmake/inertial/inertialIoTargets.cmake \
-         include/inertial/io/urdf_model.hpp; do
+for f in bin/inertial bin/inertiald lib/libinertial_formats.a lib/libinertial_runtime.a lib/cmake/inertial/inertialIoTargets.cmake \
+         include/inertial/formats/urdf_model.hpp; do
   [ -e "$work/full/$f" ] || { echo "FAIL: the full install has no $f"; exit 1; }
 done
 cmake -S "$src/tests/package/consumer_io" -B "$work/consumer_io" -DCMAKE_PREFIX_PATH="$work/full" \

@@ -6,8 +6,8 @@
 
 #include "cli_support.hpp"
 #include "inertial/inertia/consistency.hpp"
-#include "inertial/io/urdf_model.hpp"
-#include "io/urdf_text.hpp"
+#include "inertial/formats/urdf_model.hpp"
+#include "formats/urdf_text.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {

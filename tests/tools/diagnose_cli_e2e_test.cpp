@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
-#include "inertial/io/body_csv.hpp"
+#include "inertial/formats/body_csv.hpp"
 #include "inertial/model/rigid_body_simulation.hpp"
 #include "simulated_body.hpp"
 #include "simulated_robot.hpp"

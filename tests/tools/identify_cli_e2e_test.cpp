@@ -13,9 +13,9 @@
 
 #include "cli_support.hpp"
 #include "inertial/inertia/consistency.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/joint_csv.hpp"
-#include "io/urdf_text.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/formats/joint_csv.hpp"
+#include "formats/urdf_text.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -156,6 +156,21 @@ TEST(IdentifyCli, BadInputsAreNamed) {
   testing::CliRun r = RunCli({"identify", "--model", leg, "--data", csv.string()});
   EXPECT_EQ(r.exit_code, 5) << Describe(r);
   EXPECT_TRUE(Contains(r.err, csv.string()) && Contains(r.err, "q_hip") && Contains(r.err, "tau_knee")) << r.err;
+
+  // A cell that is not a finite number is an invalid value (3), as on the command line; the file
+  // error (5) is for files that cannot be read or break the contract's shape.
+  const fs::path nan_csv = testing::UniqueTempPath("nan.csv");
+  {
+    std::ofstream(nan_csv) << "t,q_abad,q_hip,q_knee,tau_abad,tau_hip,tau_knee\n0,0,0,0,0,0,0\n0.01,0,nan,0,0,0,0\n"
+                           << "0.02,0,0,0,0,0,0\n";
+  }
+  r = RunCli({"identify", "--model", leg, "--data", nan_csv.string(), "--no-outlier-rejection"});
+  EXPECT_EQ(r.exit_code, 3) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, nan_csv.string() + ":3: column 3 'q_hip'")) << r.err;
+  r = RunCli({"identify", "--model", leg, "--data", "/nonexistent/log.csv"});
+  EXPECT_EQ(r.exit_code, 5) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "cannot read '/nonexistent/log.csv': No such file or directory")) << r.err;
+  fs::remove(nan_csv);
 
   r = RunCli({"identify", "--model", leg, "--data", csv.string(), "--effects", "viscous@elbow"});
   EXPECT_EQ(r.exit_code, 2) << Describe(r);

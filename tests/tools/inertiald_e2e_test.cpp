@@ -14,9 +14,9 @@
 
 #include "cli_support.hpp"
 #include "inertial/estimate_t.hpp"
-#include "inertial/io/estimator_state_file.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/log_replay.hpp"
+#include "inertial/formats/estimator_state_file.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/runtime/log_replay.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -175,12 +175,12 @@ TEST(InertialdCli, RefusesBadInput) {
            {{"--model", "/nonexistent.urdf", "--lcm-url", "memq://"}, 5, "/nonexistent.urdf"},
            {{"--model", leg, "--config", "/nonexistent.json"}, 5, "/nonexistent.json"},
            {{"--model", leg, "--config", bad_json.string()}, 5, "not valid JSON"},
-           {{"--model", leg, "--config", config.string()}, 2, "unknown key \"publish_rate\""},
+           {{"--model", leg, "--config", config.string()}, 5, "unknown key \"publish_rate\""},
            {{"--model", leg, "--estimator", "kalman"}, 2, "kalman"},
            {{"--model", leg, "--publish-rate", "-3"}, 2, "--publish-rate"},
            {{"--model", leg, "--effects", "coulomb@ankle", "--lcm-url", "memq://"}, 2, "ankle"},
            {{"--body", "--prior", "1 2 3", "--lcm-url", "memq://"}, 2, "10 expected"},
-           {{"--model", leg, "--config", typed.string()}, 2, typed.string()},
+           {{"--model", leg, "--config", typed.string()}, 5, typed.string()},
            {{"--model", leg, "--can", "vcan0", "--can-config", "/nonexistent.yaml"}, 5, "/nonexistent.yaml"},
        }) {
     const testing::CliRun r = testing::RunProgram(daemon, b.args);

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
-#include "inertial/io/joint_csv.hpp"
-#include "inertial/io/urdf_model.hpp"
+#include "inertial/formats/joint_csv.hpp"
+#include "inertial/formats/urdf_model.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {

@@ -7,13 +7,14 @@
 #include <thread>
 
 #include "cli_support.hpp"
-#include "inertial/io/estimation_daemon.hpp"
-#include "inertial/io/estimator_state_file.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/body_csv.hpp"
-#include "inertial/io/joint_csv.hpp"
+#include "inertial/runtime/estimation_daemon.hpp"
+#include "inertial/formats/estimator_state_file.hpp"
+#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/formats/body_csv.hpp"
+#include "inertial/formats/joint_csv.hpp"
 #include "inertial/model/rigid_body_simulation.hpp"
-#include "io/urdf_text.hpp"
+#include "formats/urdf_text.hpp"
 #include "simulated_body.hpp"
 #include "simulated_robot.hpp"
 

@@ -9,8 +9,8 @@
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/nearest_consistent.hpp"
-#include "inertial/io/urdf_model.hpp"
-#include "inertial/io/urdf_writer.hpp"
+#include "inertial/formats/urdf_model.hpp"
+#include "inertial/formats/urdf_writer.hpp"
 
 namespace inertial::cli {
 

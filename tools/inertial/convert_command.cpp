@@ -10,7 +10,7 @@
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/log_cholesky.hpp"
-#include "inertial/io/number_parsing.hpp"
+#include "inertial/formats/number_parsing.hpp"
 
 namespace inertial::cli {
 namespace {

@@ -8,10 +8,10 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
-#include "inertial/io/body_csv.hpp"
-#include "inertial/io/diagnosis_html.hpp"
-#include "inertial/io/diagnosis_report.hpp"
-#include "inertial/io/validation_report.hpp"
+#include "inertial/formats/body_csv.hpp"
+#include "inertial/report/diagnosis_html.hpp"
+#include "inertial/report/diagnosis_report.hpp"
+#include "inertial/report/validation_report.hpp"
 #include "inertial/estimation/outlier_rejection.hpp"
 #include "inertial/estimation/sample_glitches.hpp"
 #include "option_parsing.hpp"
@@ -190,7 +190,7 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
     for (const std::string& n : notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   }
   std::vector<std::string> left_out;
   LeaveOutGlitches(c.data, &all, &left_out);

@@ -3,10 +3,10 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "inertial/io/estimation_daemon.hpp"
-#include "inertial/io/estimator_state_file.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/uncertainty_report.hpp"
+#include "inertial/runtime/estimation_daemon.hpp"
+#include "inertial/formats/estimator_state_file.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/report/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 

@@ -8,10 +8,10 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/joint_csv.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/uncertainty_report.hpp"
+#include "inertial/report/identification_report.hpp"
+#include "inertial/formats/joint_csv.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/report/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -159,7 +159,7 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
     if (!c.write_urdf.empty()) WriteIdentifiedUrdf(c, robot, *model, run);
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   } catch (const UrdfError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;

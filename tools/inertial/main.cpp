@@ -1,7 +1,9 @@
 // inertial: the command-line tool. Thin: argument parsing (CLI11), wiring, exit codes.
 #include <exception>
 #include <iostream>
+#include <optional>
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "exit_codes.hpp"
 
@@ -9,7 +11,9 @@ int main(int argc, char** argv) {
   using namespace inertial::cli;
   CLI::App app{
       "inertial: physically consistent rigid-body inertia (log-Cholesky parameterization, Rucker & Wensing 2022).\n"
-      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid value, 4 inconsistent body, 5 I/O error."};
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 invalid value, 4 inconsistent body, 5 I/O error, 6 no usable data."};
+  app.name("inertial");
+  app.set_version_flag("--version", "inertial " INERTIAL_VERSION);
   app.require_subcommand(1);
   StudyCommand study;
   ConvertCommand convert;
@@ -29,16 +33,7 @@ int main(int argc, char** argv) {
   CLI::App* export_app = AddExportCommand(app, &export_command);
   ValidateCommand validate;
   CLI::App* validate_app = AddValidateCommand(app, &validate);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);  // help on stdout, exit 0
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);  // prints the message and usage hint to stderr
-    return kUsage;
-  }
+  if (const std::optional<int> done = ParseCommandLine(app, argc, argv, kUsage)) return *done;
   try {
     if (study_app->parsed()) return RunStudyCommand(study);
     if (convert_app->parsed()) return RunConvertCommand(convert);

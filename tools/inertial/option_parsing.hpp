@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "exit_codes.hpp"
-#include "inertial/io/number_parsing.hpp"
+#include "inertial/formats/number_parsing.hpp"
 
 namespace inertial::cli {
 

@@ -5,9 +5,12 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "inertial/io/log_replay.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/uncertainty_report.hpp"
+#include "inertial/config/motors_yaml.hpp"
+#include "inertial/runtime/log_replay.hpp"
+#include "inertial/formats/file_error.hpp"
+#include "inertial/transport/can_joint_assembler.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/report/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -39,6 +42,39 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   return sub;
 }
 
+namespace {
+
+// A replay that gave the estimator nothing is a failure, not a final estimate equal to the prior:
+// say why, and for an LCM log which channels it does have.
+int NothingReplayed(const std::string& path, const ReplayOptions& options, const ReplayResult& r) {
+  std::cerr << "Error: replay: " << path << " gave the estimator no sample: ";
+  if (options.can) {
+    if (r.counters.received == 0) {
+      std::cerr << "of its " << r.events << " lines none is a candump frame";
+    } else {
+      std::cerr << "its " << r.counters.received << " frames made " << r.can.ticks << " complete ticks (unknown id "
+                << r.can.unknown_id << ", malformed " << r.can.malformed << ", late " << r.can.late
+                << "): check --can-config's ids and window";
+    }
+  } else if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".csv") == 0) {
+    std::cerr << "every one of its " << r.counters.received << " samples was refused:";
+    for (const auto& [reason, count] : r.counters.rejected) std::cerr << " " << reason << " " << count;
+  } else if (r.counters.received == 0) {
+    std::cerr << "no message on channel " << options.channel << ";";
+    if (r.channels.empty()) std::cerr << " it has no channel at all";
+    for (const auto& [channel, count] : r.channels) std::cerr << " " << channel << " (" << count << " messages)";
+    std::cerr << "; choose one with --channel";
+  } else {
+    std::cerr << "every one of the " << r.counters.received << " messages on " << options.channel << " was refused:";
+    for (const auto& [reason, count] : r.counters.rejected) std::cerr << " " << reason << " " << count;
+    if (r.counters.rejected.count("unknown_joint") != 0) std::cerr << " (the messages name joints the --model does not have)";
+  }
+  std::cerr << "\n";
+  return kNoData;
+}
+
+}  // namespace
+
 int RunReplayCommand(const ReplayCommand& c) {
   int status = RefuseOverwritingInputs(
       {{"--out", c.out}, {"--write-log", c.write_log}, {"--write-urdf", c.write_urdf}},
@@ -57,10 +93,7 @@ int RunReplayCommand(const ReplayCommand& c) {
   if (!c.can_config.empty()) {
     try {
       options.can = LoadCanConfig(c.can_config);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "Error: --can-config: " << e.what() << "\n";
-      return kUsage;
-    } catch (const std::runtime_error& e) {
+    } catch (const std::exception& e) {  // cannot be read, or not a valid motors.yaml: a file error
       std::cerr << "Error: --can-config: " << e.what() << "\n";
       return kIoError;
     }
@@ -81,7 +114,7 @@ int RunReplayCommand(const ReplayCommand& c) {
   if (!c.config.empty()) {
     std::ifstream in(c.config);
     if (!in) {
-      std::cerr << "Error: --config: cannot open '" << c.config << "'\n";
+      std::cerr << "Error: --config: " << CannotText("read", "configuration", c.config) << "\n";
       return kIoError;
     }
     try {
@@ -90,9 +123,9 @@ int RunReplayCommand(const ReplayCommand& c) {
       ApplyDaemonConfig(nlohmann::json::parse(in), &daemon);
       options.channel = daemon.input_channel;
       options.format = daemon.format;
-    } catch (const std::exception& e) {
+    } catch (const std::exception& e) {  // not JSON, or not a valid configuration: a file error
       std::cerr << "Error: --config: " << c.config << ": " << e.what() << "\n";
-      return kUsage;
+      return kIoError;
     }
   }
   if (!c.channel.empty()) options.channel = c.channel;
@@ -104,13 +137,21 @@ int RunReplayCommand(const ReplayCommand& c) {
   std::optional<RobotDynamics> model;
   status = LoadRobot(c.model, c.effects, Vector3(0, 0, -9.81), &robot, &effects, &model);
   if (status != kOk) return status;
+  if (options.can) {
+    try {  // the motors must cover the model's joints: a settings file that does not fit, a file error
+      const CanJointAssembler check(*options.can, model->dof_names());
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --can-config: " << c.can_config << ": " << e.what() << "\n";
+      return kIoError;
+    }
+  }
   OnlineJointEstimator estimator(*model, Eigen::VectorXd::Zero(model->num_parameters()), estimator_options);
   ReplayResult r;
   try {
     r = ReplayLog(path, &estimator, options);
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   } catch (const std::runtime_error& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
@@ -130,6 +171,7 @@ int RunReplayCommand(const ReplayCommand& c) {
   }
   std::cout << "\nthroughput: " << static_cast<long long>(r.samples_per_second) << " samples/s (" << r.seconds
             << " s)\n";
+  if (r.counters.accepted == 0) return NothingReplayed(path, options, r);
   const std::optional<ModelUncertainty> uncertainty = FromOnlineEstimator(estimator);
   std::cout << "final estimate" << (uncertainty ? " (+- one standard deviation " + uncertainty->source + ")" : "") << ":\n";
   for (int e = 0; e < static_cast<int>(model->bodies().size()); ++e) {

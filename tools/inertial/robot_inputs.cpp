@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "exit_codes.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/number_parsing.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/formats/number_parsing.hpp"
 
 namespace inertial::cli {
 
@@ -81,7 +81,7 @@ int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCs
     for (const std::string& n : report.notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   }
   return kOk;
 }

@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/joint_csv.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/formats/joint_csv.hpp"
 
 namespace inertial::cli {
 

@@ -1,5 +1,6 @@
 // `inertial simulate`: joint logs of a URDF robot (with any effects) tracking a Fourier excitation,
 // by the project's forward-dynamics simulator, in the CSV contract that `identify` reads.
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -8,12 +9,13 @@
 #include <random>
 
 #include "commands.hpp"
-#include "inertial/io/model_file.hpp"
+#include "inertial/config/motors_yaml.hpp"
+#include "inertial/formats/file_error.hpp"
+#include "inertial/formats/model_file.hpp"
 #include "exit_codes.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/joint_csv.hpp"
-#include "inertial/io/can_joint_assembler.hpp"
-#include "inertial/io/joint_message.hpp"
+#include "inertial/formats/joint_csv.hpp"
+#include "inertial/transport/can_joint_assembler.hpp"
+#include "inertial/transport/joint_message.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/joint_simulation.hpp"
 #include "option_parsing.hpp"
@@ -83,10 +85,7 @@ int RunSimulateCommand(const SimulateCommand& c) {
   if (!c.can_config.empty()) {
     try {
       can = LoadCanConfig(c.can_config);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "Error: --can-config: " << e.what() << "\n";
-      return kUsage;
-    } catch (const std::runtime_error& e) {
+    } catch (const std::exception& e) {  // cannot be read, or not a valid motors.yaml: a file error
       std::cerr << "Error: --can-config: " << e.what() << "\n";
       return kIoError;
     }
@@ -216,7 +215,7 @@ int RunSimulateCommand(const SimulateCommand& c) {
     }
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   }
   if (!c.truth_urdf.empty()) {
     try {
@@ -245,10 +244,12 @@ int RunSimulateCommand(const SimulateCommand& c) {
     j["bodies"] = bodies;
     j["effects"] = effects;
     j["x"] = std::vector<double>(x.data(), x.data() + x.size());
+    errno = 0;
     std::ofstream out(c.truth);
     out << j.dump(2) << "\n";
+    out.flush();
     if (!out) {
-      std::cerr << "Error: --truth: cannot write '" << c.truth << "'\n";
+      std::cerr << "Error: --truth: " << CannotText("write", "", c.truth) << "\n";
       return kIoError;
     }
   }

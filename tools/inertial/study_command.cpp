@@ -7,7 +7,7 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "option_parsing.hpp"
-#include "inertial/io/study_report.hpp"
+#include "inertial/report/study_report.hpp"
 
 namespace inertial::cli {
 

@@ -8,10 +8,10 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "inertial/inertia/consistency.hpp"
-#include "inertial/io/body_csv.hpp"
-#include "inertial/io/diagnosis_html.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/validation_report.hpp"
+#include "inertial/formats/body_csv.hpp"
+#include "inertial/report/diagnosis_html.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/report/validation_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -107,7 +107,7 @@ int Finish(const ValidateCommand& c, ModelValidation& v) {
     }
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   }
   if (!c.report_dir.empty()) {
     try {
@@ -219,7 +219,7 @@ int RunBody(const ValidateCommand& c, double time_scale) {
     for (const std::string& n : notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
+    return ExitCodeOf(e);
   }
   ModelValidation v;
   try {

@@ -6,12 +6,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
-#include "inertial/io/estimation_daemon.hpp"
-#include "inertial/io/identification_report.hpp"
-#include "inertial/io/model_file.hpp"
-#include "inertial/io/uncertainty_report.hpp"
-#include "inertial/io/number_parsing.hpp"
+#include "command_line.hpp"
+#include "inertial/config/motors_yaml.hpp"
+#include "inertial/runtime/estimation_daemon.hpp"
+#include "inertial/formats/file_error.hpp"
+#include "inertial/formats/model_file.hpp"
+#include "inertial/report/uncertainty_report.hpp"
+#include "inertial/formats/number_parsing.hpp"
 
 namespace {
 
@@ -29,7 +32,7 @@ int main(int argc, char** argv) {
       "inertiald: online, physically consistent inertia estimation beside the controller. Subscribes to joint-state "
       "messages on LCM (inertial.joint_state_t, or the user's own type described in --config), runs the recursive "
       "estimator on every sample and publishes inertial.estimate_t. Exit codes: 0 ok, 1 LCM failure, 2 usage, "
-      "5 I/O error (model, config)."};
+      "5 a file error (model, config, motors.yaml: unreadable or not valid)."};
   std::string model_path, effects, config_path, lcm_url, channel, estimate_channel, residual_channel, checkpoint;
   std::string estimator = "", log_level = "", publish_rate = "", checkpoint_interval = "", sigma = "";
   bool body = false;
@@ -60,11 +63,9 @@ int main(int argc, char** argv) {
                  "write the current estimate as a model file (URDF: links, effects, rotors, payloads) at exit and on "
                  "SIGUSR1, for `inertial validate --model` or as the next prior");
   app.add_option("--log-level", log_level, "error, warn, info (default) or debug");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  app.name("inertiald");
+  app.set_version_flag("--version", "inertiald " INERTIAL_VERSION);
+  if (const std::optional<int> done = inertial::cli::ParseCommandLine(app, argc, argv, 2)) return *done;
 
   if (body == !model_path.empty()) {
     std::cerr << "Error: give --model URDF (a robot) or --body (a single body), not " << (body ? "both" : "neither") << "\n";
@@ -84,7 +85,7 @@ int main(int argc, char** argv) {
     if (!config_path.empty()) {
       std::ifstream in(config_path);
       if (!in) {
-        std::cerr << "Error: --config: cannot open '" << config_path << "'\n";
+        std::cerr << "Error: --config: " << CannotText("read", "configuration", config_path) << "\n";
         return 5;
       }
       nlohmann::json config;
@@ -98,7 +99,7 @@ int main(int argc, char** argv) {
         ApplyDaemonConfig(config, &options);
       } catch (const std::exception& e) {
         std::cerr << "Error: --config " << config_path << ": " << e.what() << "\n";
-        return 2;
+        return 5;  // a settings file that is not valid: a file error, as a bad URDF or motors.yaml
       }
     }
     if (!lcm_url.empty()) options.lcm_url = lcm_url;
@@ -165,7 +166,7 @@ int main(int argc, char** argv) {
       CanConfig can;
       try {
         can = LoadCanConfig(can_config);
-      } catch (const std::runtime_error& e) {  // the file cannot be read
+      } catch (const std::exception& e) {  // cannot be read, or not a valid motors.yaml: a file error
         std::cerr << "Error: --can-config: " << e.what() << "\n";
         return 5;
       }

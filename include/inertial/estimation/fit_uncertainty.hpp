@@ -47,7 +47,7 @@
 /// and with the exact Hessian; see Accuracy). Effects have
 /// no prior and are never held; neither is a quantity with infinite std (nothing holds it).
 ///
-/// Accuracy (tests/io/fit_uncertainty_monte_carlo_test.cpp, 100 noise draws on the bundled leg):
+/// Accuracy (tests/formats/fit_uncertainty_monte_carlo_test.cpp, 100 noise draws on the bundled leg):
 /// for quantities not held, the spread of the estimates over noise draws is 0.5 - 1.1 times the
 /// reported std. Gauss-Newton drops the curvature terms weighted by the residuals, which do not
 /// vanish when the prior pulls the fit away from the data (sum_k grad_w_k d2w_k/dx2 and

@@ -1,7 +1,7 @@
 // Prints the number of joints of a URDF as the installed I/O layer loads it.
 #include <cstdio>
 
-#include "inertial/io/urdf_model.hpp"
+#include "inertial/formats/urdf_model.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) return 2;

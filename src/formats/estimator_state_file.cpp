@@ -1,0 +1,139 @@
+#include "inertial/formats/estimator_state_file.hpp"
+#include "inertial/formats/file_error.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace inertial {
+namespace {
+
+constexpr const char* kFormat = "inertial-estimator-state";
+constexpr int kVersion = 1;
+
+}  // namespace
+
+std::string EstimatorStateToJson(const EstimatorState& s, const std::string& model_description) {
+  nlohmann::json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["kind"] = s.kind;
+  j["model"] = model_description;
+  j["x"] = std::vector<double>(s.x.data(), s.x.data() + s.x.size());
+  nlohmann::json P = nlohmann::json::array();
+  for (int r = 0; r < s.P.rows(); ++r) {
+    std::vector<double> row(s.P.cols());
+    for (int c = 0; c < s.P.cols(); ++c) row[c] = s.P(r, c);
+    P.push_back(row);
+  }
+  j["P"] = P;
+  j["has_time"] = s.has_time;
+  j["last_time"] = s.last_time;
+  nlohmann::json counters = nlohmann::json::object();
+  for (int k = 0; k < kNumUpdateStatuses; ++k) counters[std::string(ToString(static_cast<UpdateStatus>(k)))] = s.counters.count[k];
+  j["counters"] = counters;
+  return j.dump() + "\n";
+}
+
+EstimatorState EstimatorStateFromJson(const std::string& text, const std::string& source, std::string* model) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {  // a parse error, or a number that overflows (1e400)
+    throw StateFileError(source + ": not an estimator state: " + e.what());
+  }
+  try {
+    if (!j.is_object() || j.value("format", "") != kFormat) {
+      throw StateFileError(source + ": not an estimator state (no \"format\": \"" + kFormat + "\")");
+    }
+    if (j.at("version").get<int>() != kVersion) {
+      throw StateFileError(source + ": estimator state version " + std::to_string(j.at("version").get<int>()) +
+                           ", this program reads version " + std::to_string(kVersion));
+    }
+    EstimatorState s;
+    s.kind = j.at("kind").get<std::string>();
+    if (model != nullptr) *model = j.value("model", "");
+    const std::vector<double> x = j.at("x").get<std::vector<double>>();
+    s.x = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    const auto& P = j.at("P");
+    if (!P.empty()) {
+      if (P.size() != x.size()) throw StateFileError(source + ": covariance has " + std::to_string(P.size()) + " rows for " + std::to_string(x.size()) + " parameters");
+      s.P.resize(static_cast<Eigen::Index>(x.size()), static_cast<Eigen::Index>(x.size()));
+      for (size_t r = 0; r < P.size(); ++r) {
+        const std::vector<double> row = P[r].get<std::vector<double>>();
+        if (row.size() != x.size()) throw StateFileError(source + ": covariance row " + std::to_string(r) + " has " + std::to_string(row.size()) + " entries");
+        for (size_t c = 0; c < row.size(); ++c) s.P(r, c) = row[c];
+      }
+    }
+    s.has_time = j.at("has_time").get<bool>();
+    s.last_time = j.at("last_time").get<double>();
+    const auto& counters = j.at("counters");
+    if (!counters.is_object()) throw StateFileError(source + ": \"counters\" is not an object");
+    for (int k = 0; k < kNumUpdateStatuses; ++k) {
+      const std::string name(ToString(static_cast<UpdateStatus>(k)));
+      if (!counters.contains(name)) continue;
+      if (!counters.at(name).is_number_unsigned()) {
+        throw StateFileError(source + ": counter \"" + name + "\" is " + counters.at(name).dump() +
+                             ", not a non-negative integer");
+      }
+      s.counters.count[k] = counters.at(name).get<std::uint64_t>();
+    }
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw StateFileError(source + ": malformed estimator state: " + e.what());
+  }
+}
+
+void SaveEstimatorState(const std::string& path, const EstimatorState& state, const std::string& model_description) {
+  // Written to a temporary file, flushed to the disk (fsync), renamed over the target, and the
+  // directory flushed too: a kill leaves the old or the new state, and so does a power cut.
+  const std::string tmp = path + ".tmp";
+  const std::string text = EstimatorStateToJson(state, model_description);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw StateFileError(CannotText("write", "estimator state", tmp));
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw StateFileError(tmp + ": cannot write the estimator state: " + why);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw StateFileError(tmp + ": cannot flush the estimator state to disk: " + why);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw StateFileError(path + ": cannot replace the estimator state: " + why);
+  }
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);  // the rename itself on disk; a file system that cannot sync a directory still has the file
+    ::close(dir);
+  }
+}
+
+EstimatorState LoadEstimatorState(const std::string& path, std::string* model_description) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw StateFileError(CannotText("read", "estimator state", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return EstimatorStateFromJson(text.str(), path, model_description);
+}
+
+}  // namespace inertial

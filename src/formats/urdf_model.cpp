@@ -1,0 +1,431 @@
+#include "inertial/formats/urdf_model.hpp"
+
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Geometry>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "inertial/formats/file_error.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/formats/number_parsing.hpp"
+#include "urdf_effects.hpp"
+#include "xml_error.hpp"
+
+namespace inertial {
+namespace {
+
+// Collects the errors urdfdom logs through console_bridge while it parses; warnings go on to the
+// handler that was installed before.
+class CapturingLogHandler : public console_bridge::OutputHandler {
+ public:
+  explicit CapturingLogHandler(console_bridge::OutputHandler* previous) : previous_(previous) {}
+  void log(const std::string& text, console_bridge::LogLevel level, const char* filename, int line) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
+      errors_.push_back(text);
+    } else if (level == console_bridge::CONSOLE_BRIDGE_LOG_WARN && previous_ != nullptr) {
+      previous_->log(text, level, filename, line);
+    }
+  }
+  const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  console_bridge::OutputHandler* previous_;
+  std::vector<std::string> errors_;
+};
+
+// console_bridge's output handler is process-wide: one capture at a time.
+std::mutex& LogCaptureMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+std::string Join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (std::size_t k = 0; k < items.size(); ++k) out += (k ? separator : "") + items[k];
+  return out;
+}
+
+// Runs urdfdom on the text, turning a null model or any logged error into a UrdfError.
+urdf::ModelInterfaceSharedPtr ParseWithUrdfdom(const std::string& xml, const std::string& source) {
+  const std::lock_guard<std::mutex> lock(LogCaptureMutex());
+  CapturingLogHandler handler(console_bridge::getOutputHandler());
+  console_bridge::useOutputHandler(&handler);
+  urdf::ModelInterfaceSharedPtr model;
+  std::string exception_text;
+  try {
+    model = urdf::parseURDF(xml);
+  } catch (const std::exception& e) {
+    exception_text = e.what();
+  }
+  console_bridge::restorePreviousOutputHandler();
+  std::vector<std::string> errors = handler.errors();
+  if (!exception_text.empty()) errors.push_back(exception_text);
+  if (!model || !errors.empty()) {
+    throw UrdfError(source + ": is not a valid URDF" + (errors.empty() ? std::string() : ": " + Join(errors, "; ")));
+  }
+  return model;
+}
+
+// File order of the <link> and <joint> elements (urdfdom keeps them in maps sorted by name).
+struct FileOrder {
+  std::vector<std::string> links;
+  std::vector<std::string> joints;
+};
+
+// The numeric attributes of the elements urdfdom reads, with how many numbers each holds (0: one
+// or more, as a mesh's scale may be given).
+const std::map<std::string, std::map<std::string, int>>& NumericAttributes() {
+  static const std::map<std::string, std::map<std::string, int>> table = {
+      {"origin", {{"xyz", 3}, {"rpy", 3}}},
+      {"mass", {{"value", 1}}},
+      {"inertia", {{"ixx", 1}, {"ixy", 1}, {"ixz", 1}, {"iyy", 1}, {"iyz", 1}, {"izz", 1}}},
+      {"axis", {{"xyz", 3}}},
+      {"limit", {{"lower", 1}, {"upper", 1}, {"effort", 1}, {"velocity", 1}}},
+      {"dynamics", {{"damping", 1}, {"friction", 1}}},
+      {"safety_controller", {{"soft_lower_limit", 1}, {"soft_upper_limit", 1}, {"k_position", 1}, {"k_velocity", 1}}},
+      {"calibration", {{"rising", 1}, {"falling", 1}, {"reference_position", 1}}},
+      {"mimic", {{"multiplier", 1}, {"offset", 1}}},
+      {"box", {{"size", 3}}},
+      {"cylinder", {{"radius", 1}, {"length", 1}}},
+      {"sphere", {{"radius", 1}}},
+      {"capsule", {{"radius", 1}, {"length", 1}}},
+      {"mesh", {{"scale", 3}}},
+      {"color", {{"rgba", 4}}},
+  };
+  return table;
+}
+
+// Checks the subtree of an element urdfdom reads before urdfdom sees it: urdfdom (through
+// console_bridge) hands some attribute text to a printf-style logger as the format itself, so a
+// '%' in it reads or writes memory. No attribute there may hold a '%', and every numeric attribute
+// must hold exactly its finite numbers (number_parsing.hpp); anything else is refused naming the
+// file, the element (with its line) and the attribute.
+void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source) {
+  const std::string where = source + ": <" + std::string(e.Name()) + "> (line " + std::to_string(e.GetLineNum()) + ")";
+  const auto numeric = NumericAttributes().find(e.Name());
+  for (const tinyxml2::XMLAttribute* a = e.FirstAttribute(); a != nullptr; a = a->Next()) {
+    const std::string value = a->Value();
+    if (value.find('%') != std::string::npos) {
+      throw UrdfError(where + ": attribute '" + a->Name() + "' holds a '%', which no URDF value needs");
+    }
+    if (numeric == NumericAttributes().end()) continue;
+    const auto count = numeric->second.find(a->Name());
+    if (count == numeric->second.end()) continue;
+    std::vector<double> numbers;
+    try {
+      const std::string what = std::string("attribute '") + a->Name() + "'";
+      numbers = count->second == 1 ? std::vector<double>{ParseDouble(value, what)} : ParseNumberList(value, what);
+    } catch (const InvalidNumber& err) {
+      throw UrdfError(where + ": " + err.what());
+    }
+    if (static_cast<int>(numbers.size()) != count->second) {
+      throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + std::to_string(numbers.size()) +
+                      " numbers, " + std::to_string(count->second) + " expected");
+    }
+  }
+  for (const tinyxml2::XMLElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+    ValidateForUrdfdom(*c, source);
+  }
+}
+
+// The joints must form a tree before urdfdom links them: a joint whose parent is its own child, a
+// link with two parent joints, or a loop of joints makes urdfdom's links hold each other by shared
+// pointers, which leak when it then refuses the file (a fuzzed URDF found it).
+void CheckJointGraph(const tinyxml2::XMLElement& robot, const std::string& source) {
+  std::map<std::string, std::pair<std::string, std::string>> parent_of;  // child link -> {parent link, joint}
+  for (const tinyxml2::XMLElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const tinyxml2::XMLElement* parent = j->FirstChildElement("parent");
+    const tinyxml2::XMLElement* child = j->FirstChildElement("child");
+    const char* parent_link = parent != nullptr ? parent->Attribute("link") : nullptr;
+    const char* child_link = child != nullptr ? child->Attribute("link") : nullptr;
+    if (parent_link == nullptr || child_link == nullptr) continue;  // urdfdom names what is missing
+    const std::string joint = j->Attribute("name") != nullptr ? j->Attribute("name") : "";
+    const std::string where = source + ": joint '" + joint + "' (line " + std::to_string(j->GetLineNum()) + ")";
+    if (std::strcmp(parent_link, child_link) == 0) {
+      throw UrdfError(where + ": link '" + std::string(child_link) + "' is both its parent and its child");
+    }
+    const auto [it, inserted] = parent_of.emplace(child_link, std::make_pair(std::string(parent_link), joint));
+    if (!inserted) {
+      throw UrdfError(where + ": link '" + std::string(child_link) + "' is already the child of joint '" +
+                      it->second.second + "'; a link has one parent joint");
+    }
+  }
+  for (const auto& [start, unused] : parent_of) {
+    std::string link = start;
+    for (std::size_t steps = 0; steps <= parent_of.size(); ++steps) {
+      const auto up = parent_of.find(link);
+      if (up == parent_of.end()) break;
+      link = up->second.first;
+      if (link == start) {
+        throw UrdfError(source + ": the joints form a loop through link '" + start + "' (joint '" + up->second.second +
+                        "'); a URDF describes a tree");
+      }
+    }
+  }
+}
+
+FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    throw UrdfError(source + ": is not a valid URDF: " + detail::DescribeXmlError(doc));
+  }
+  const tinyxml2::XMLElement* robot = doc.RootElement();
+  if (robot == nullptr || std::strcmp(robot->Name(), "robot") != 0) {
+    throw UrdfError(source + ": is not a valid URDF: the root element is " +
+                    (robot == nullptr ? std::string("missing") : "<" + std::string(robot->Name()) + ">") +
+                    ", not <robot>");
+  }
+  for (const tinyxml2::XMLAttribute* a = robot->FirstAttribute(); a != nullptr; a = a->Next()) {
+    if (std::string(a->Value()).find('%') != std::string::npos) {
+      throw UrdfError(source + ": <robot> attribute '" + a->Name() + "' holds a '%', which no URDF value needs");
+    }
+  }
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string name = e->Name();
+    if (name == "link" || name == "joint" || name == "material") ValidateForUrdfdom(*e, source);
+  }
+  CheckJointGraph(*robot, source);
+  FileOrder order;
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
+    if (const char* name = e->Attribute("name")) order.links.emplace_back(name);
+  }
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
+    if (const char* name = e->Attribute("name")) order.joints.emplace_back(name);
+  }
+  return order;
+}
+
+Matrix3 RotationOf(const urdf::Rotation& r) {
+  return Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().toRotationMatrix();
+}
+
+Vector3 VectorOf(const urdf::Vector3& v) { return Vector3(v.x, v.y, v.z); }
+
+// a * b for poses (a: B in A, b: C in B) -> C in A.
+SpatialTransform Compose(const SpatialTransform& a, const SpatialTransform& b) {
+  SpatialTransform c;
+  c.R_AB = a.R_AB * b.R_AB;
+  c.p_AB = a.R_AB * b.p_AB + a.p_AB;
+  return c;
+}
+
+std::string JointTypeName(int type) {
+  switch (type) {
+    case urdf::Joint::REVOLUTE: return "revolute";
+    case urdf::Joint::CONTINUOUS: return "continuous";
+    case urdf::Joint::PRISMATIC: return "prismatic";
+    case urdf::Joint::FIXED: return "fixed";
+    case urdf::Joint::FLOATING: return "floating";
+    case urdf::Joint::PLANAR: return "planar";
+    default: return "unknown";
+  }
+}
+
+// Rejects what the tree cannot represent; returns the joint frame in its parent link's frame.
+SpatialTransform CheckJoint(const urdf::Joint& joint, const std::string& source) {
+  const std::string where = source + ": joint '" + joint.name + "'";
+  if (joint.type == urdf::Joint::FLOATING || joint.type == urdf::Joint::PLANAR) {
+    throw UrdfError(where + " is " + JointTypeName(joint.type) +
+                    ": floating-base and planar joints are not supported yet (only revolute, continuous, "
+                    "prismatic and fixed)");
+  }
+  if (joint.type == urdf::Joint::UNKNOWN) throw UrdfError(where + " has an unknown type");
+  if (joint.mimic) {
+    throw UrdfError(where + " has <mimic> (mimicking '" + joint.mimic->joint_name +
+                    "'): mimic joints are not supported");
+  }
+  SpatialTransform X;
+  X.R_AB = RotationOf(joint.parent_to_joint_origin_transform.rotation);
+  X.p_AB = VectorOf(joint.parent_to_joint_origin_transform.position);
+  if (!X.R_AB.allFinite() || !X.p_AB.allFinite()) throw UrdfError(where + ": <origin> is not finite");
+  if (joint.type != urdf::Joint::FIXED) {
+    const Vector3 axis = VectorOf(joint.axis);
+    if (!axis.allFinite()) throw UrdfError(where + ": <axis> is not finite");
+    if (!(axis.norm() > 0.0)) throw UrdfError(where + ": <axis> is the zero vector");
+  }
+  return X;
+}
+
+UrdfLinkInertial ConvertInertial(const urdf::Link& link, const std::string& source) {
+  UrdfLinkInertial out;
+  out.link = link.name;
+  if (!link.inertial) return out;
+  out.present = true;
+  const urdf::Inertial& in = *link.inertial;
+  Matrix3 I_C;
+  I_C << in.ixx, in.ixy, in.ixz,  //
+      in.ixy, in.iyy, in.iyz,     //
+      in.ixz, in.iyz, in.izz;
+  const Matrix3 R_LC = RotationOf(in.origin.rotation);
+  const Vector3 p_LC = VectorOf(in.origin.position);
+  if (!std::isfinite(in.mass) || !I_C.allFinite() || !R_LC.allFinite() || !p_LC.allFinite()) {
+    throw UrdfError(source + ": link '" + link.name + "': <inertial> has a non-finite number");
+  }
+  out.pi = InertialParams::FromMassComInertia(in.mass, p_LC, R_LC * I_C * R_LC.transpose());
+  return out;
+}
+
+bool IsZero(const InertialParams& pi) { return (pi.vector().array() == 0.0).all(); }
+
+// A body of the tree being assembled (the tree's inertias cannot change after AddBody).
+struct PendingBody {
+  std::string link;
+  int parent = -1;
+  JointModel joint;
+  InertialParams inertia;
+  bool has_inertial = false;  // some link of it has <inertial>
+  bool has_mass = false;      // some link of it has a non-zero <inertial>
+};
+
+}  // namespace
+
+int RobotModel::DofIndex(const std::string& joint) const {
+  for (std::size_t k = 0; k < dof_names.size(); ++k) {
+    if (dof_names[k] == joint) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+int RobotModel::BodyIndex(const std::string& link) const {
+  const auto it = placements.find(link);
+  return it == placements.end() ? -1 : it->second.body;
+}
+
+std::vector<EffectSpec> RobotModel::DeclaredEffects() const {
+  std::vector<EffectSpec> specs;
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    if (effect_declared[k]) specs.push_back(effects[k].spec);
+  }
+  return specs;
+}
+
+SpatialTransform RobotModel::LinkInBody(const std::string& link) const {
+  const auto it = placements.find(link);
+  if (it == placements.end()) {
+    throw std::invalid_argument("robot '" + name + "' has no link '" + link + "'");
+  }
+  return it->second.X_body_link;
+}
+
+RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, const UrdfLoadOptions& options) {
+  const std::string& src = source_name;
+  const FileOrder order = ReadFileOrder(xml, src);
+  const urdf::ModelInterfaceSharedPtr urdf_model = ParseWithUrdfdom(xml, src);
+
+  RobotModel model;
+  model.name = urdf_model->getName();
+  model.root_link = urdf_model->getRoot()->name;
+
+  // Every link's own inertial, in file order.
+  std::map<std::string, UrdfLinkInertial> inertial_of;
+  for (const std::string& link_name : order.links) {
+    const urdf::LinkConstSharedPtr link = urdf_model->getLink(link_name);
+    if (!link) continue;
+    model.links.push_back(ConvertInertial(*link, src));
+    inertial_of[link_name] = model.links.back();
+  }
+
+  // Joints in file order, each once its parent link is placed (parents before children).
+  std::vector<PendingBody> bodies;
+  model.placements[model.root_link] = LinkPlacement{};
+  std::vector<std::string> remaining = order.joints;
+  while (!remaining.empty()) {
+    std::vector<std::string> later;
+    for (const std::string& joint_name : remaining) {
+      const urdf::JointConstSharedPtr joint = urdf_model->getJoint(joint_name);
+      if (!joint) continue;
+      const auto parent = model.placements.find(joint->parent_link_name);
+      if (parent == model.placements.end()) {
+        later.push_back(joint_name);
+        continue;
+      }
+      const SpatialTransform X_parent_joint = CheckJoint(*joint, src);
+      const LinkPlacement parent_placement = parent->second;
+      const SpatialTransform X_body_joint = Compose(parent_placement.X_body_link, X_parent_joint);
+      LinkPlacement child;
+      if (joint->type == urdf::Joint::FIXED) {
+        child.body = parent_placement.body;
+        child.X_body_link = X_body_joint;
+      } else {
+        PendingBody body;
+        body.link = joint->child_link_name;
+        body.parent = parent_placement.body;
+        body.joint.name = joint->name;
+        body.joint.type = joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
+        body.joint.R_parent_joint = X_body_joint.R_AB;
+        body.joint.p_parent_joint = X_body_joint.p_AB;
+        body.joint.axis = VectorOf(joint->axis).normalized();
+        bodies.push_back(body);
+        child.body = static_cast<int>(bodies.size()) - 1;
+      }
+      model.placements[joint->child_link_name] = child;
+    }
+    if (later.size() == remaining.size()) {
+      throw UrdfError(src + ": joint '" + later.front() + "' hangs from a link that is not connected to the root '" +
+                      model.root_link + "'");
+    }
+    remaining = later;
+  }
+
+  // Merge each link's inertial into its body.
+  for (const UrdfLinkInertial& li : model.links) {
+    const auto placement = model.placements.find(li.link);
+    if (placement == model.placements.end() || placement->second.body < 0 || !li.present) continue;
+    PendingBody& body = bodies[placement->second.body];
+    body.has_inertial = true;
+    if (IsZero(li.pi)) continue;
+    if (options.require_consistent_inertials) {
+      const ConsistencyReport report = CheckConsistency(li.pi);
+      if (!report.fully_consistent()) {
+        throw UrdfError(src + ": link '" + li.link + "': <inertial> is not physically consistent: " + report.reason);
+      }
+    }
+    body.has_mass = true;
+    const SpatialTransform& X = placement->second.X_body_link;
+    body.inertia = body.inertia + li.pi.Transformed(X.R_AB, X.p_AB);
+  }
+
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const PendingBody& body = bodies[i];
+    if (options.require_consistent_inertials && !body.has_mass) {
+      throw UrdfError(src + ": link '" + body.link + "' (moved by joint '" + body.joint.name + "') " +
+                      (body.has_inertial ? "has zero mass: its <inertial> and those of the links fixed to it are zero"
+                                         : "has no <inertial>, nor has any link fixed to it"));
+    }
+    try {
+      model.tree.AddBody(body.link, body.parent, body.joint, body.inertia);
+    } catch (const std::invalid_argument& e) {
+      throw UrdfError(src + ": " + e.what());
+    }
+    model.body_links.push_back(body.link);
+    model.body_has_inertial.push_back(body.has_inertial);
+    model.dof_names.push_back(body.joint.name);
+  }
+
+  tinyxml2::XMLDocument doc;
+  doc.Parse(xml.c_str(), xml.size());  // parsed once already by ReadFileOrder
+  model.effects = detail::ReadModelEffects(*doc.RootElement(), src, model.dof_names, &model.effect_declared);
+  return model;
+}
+
+RobotModel LoadUrdf(const std::string& path, const UrdfLoadOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw UrdfError(CannotText("read", "URDF", path, EISDIR));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UrdfError(CannotText("read", "URDF", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw UrdfError(path + ": cannot read the file");
+  return ParseUrdf(text.str(), path, options);
+}
+
+}  // namespace inertial

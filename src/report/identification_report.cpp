@@ -1,0 +1,377 @@
+#include "inertial/report/identification_report.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/report/uncertainty_report.hpp"
+#include "inertial/report/validation_report.hpp"
+
+namespace inertial {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string Format(const char* format, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
+}
+
+// Principal moments (ascending) and axes (columns, right-handed) of a symmetric 3x3 tensor.
+void Principal(const Matrix3& I, Vector3* moments, Matrix3* axes) {
+  const Eigen::SelfAdjointEigenSolver<Matrix3> eig(I);
+  *moments = eig.eigenvalues();
+  *axes = eig.eigenvectors();
+  if (axes->determinant() < 0) axes->col(2) *= -1.0;
+}
+
+nlohmann::json VectorJson(const Eigen::VectorXd& v) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < v.size(); ++i) j.push_back(v[i]);
+  return j;
+}
+
+nlohmann::json MatrixJson(const Eigen::MatrixXd& M) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int r = 0; r < M.rows(); ++r) j.push_back(VectorJson(M.row(r).transpose()));
+  return j;
+}
+
+}  // namespace
+
+std::vector<std::string> EffectValueNames(EffectKind kind) {
+  switch (kind) {
+    case EffectKind::kViscous: return {"b"};
+    case EffectKind::kCoulomb: return {"bc"};
+    case EffectKind::kOffset: return {"c"};
+    case EffectKind::kArmature: return {"Ia"};
+    case EffectKind::kSpring: return {"k", "q0"};
+    case EffectKind::kAsymmetric: return {"bp", "bn"};
+    case EffectKind::kSigmoid: return {"p1"};
+    default: return {};
+  }
+}
+
+// The unit of each value of an effect on a revolute joint (prismatic: N, m, kg).
+std::vector<std::string> EffectValueUnits(EffectKind kind) {
+  switch (kind) {
+    case EffectKind::kViscous: return {"N m s/rad"};
+    case EffectKind::kCoulomb: return {"N m"};
+    case EffectKind::kOffset: return {"N m"};
+    case EffectKind::kArmature: return {"kg m^2"};
+    case EffectKind::kSpring: return {"N m/rad", "rad"};
+    case EffectKind::kAsymmetric: return {"N m", "N m"};
+    case EffectKind::kSigmoid: return {"N m"};
+    default: return {};
+  }
+}
+
+
+bool IdentificationRun::failed() const {
+  return fit.lm.reason == StopReason::kNumericalFailure || !fit.x.allFinite() || !std::isfinite(fit.data_cost);
+}
+
+IdentificationRun RunIdentification(const RobotDynamics& model, const JointSamples& all_train,
+                                    const JointSamples* validation, const JointIdentificationOptions& options,
+                                    const OutlierOptions& outliers) {
+  IdentificationRun run;
+  const auto start = std::chrono::steady_clock::now();
+  RobustIdentificationResult robust = IdentifyJointModelRobust(model, all_train, options, outliers);
+  run.fit_seconds = SecondsSince(start);
+  run.fit = std::move(robust.fit);
+  run.outliers = std::move(robust.outliers);
+  const JointNormalEquations& eq = robust.equations;
+  const JointSamples train = run.outliers.rejected.empty()
+                                 ? all_train
+                                 : SelectSamples(all_train, RowsExcept(all_train.size(), run.outliers.rejected));
+  run.train_samples = train.size();
+  // The prior's own error: the URDF's bodies and no effects.
+  const Eigen::VectorXd x_urdf = PriorParametersWithoutEffects(model);
+  run.prior_weight = options.prior_weight;
+  run.prior_train = CompareTorques(PredictJointTorques(model, x_urdf, train), train.tau);
+  run.fit_train = CompareTorques(PredictJointTorques(model, run.fit.x, train), train.tau);
+  if (validation != nullptr) {
+    // Held-out rows whose measurement or prediction is not finite (a glitch in the validation log)
+    // are left out of its errors and counted, as validate does.
+    Eigen::MatrixXd prior = PredictJointTorques(model, x_urdf, *validation);
+    Eigen::MatrixXd fitted = PredictJointTorques(model, run.fit.x, *validation);
+    Eigen::MatrixXd both(prior.rows(), 2 * prior.cols());
+    both << prior, fitted;
+    const std::vector<int> bad = NonFiniteRows(both, *validation);
+    JointSamples kept_validation;
+    const JointSamples* v = validation;
+    if (!bad.empty()) {
+      if (static_cast<int>(bad.size()) == validation->size()) {
+        throw std::invalid_argument("the validation log has no sample with finite values and predictions");
+      }
+      kept_validation = SelectSamples(*validation, RowsExcept(validation->size(), bad));
+      v = &kept_validation;
+      prior = PredictJointTorques(model, x_urdf, *v);
+      fitted = PredictJointTorques(model, run.fit.x, *v);
+      run.validation_left_out = static_cast<int>(bad.size());
+    }
+    run.validation_samples = v->size();
+    run.prior_validation = CompareTorques(prior, v->tau);
+    run.fit_validation = CompareTorques(fitted, v->tau);
+  }
+  if (!run.failed()) {
+    run.identifiability = AnalyzeIdentifiability(eq.AtA, model.FeatureNames());
+    try {
+      run.uncertainty = EstimateFitUncertainty(model, eq, run.fit.x, options.prior_weight, options.frozen_bodies);
+    } catch (const std::invalid_argument& e) {
+      run.uncertainty_unavailable = e.what();
+    }
+  }
+  return run;
+}
+
+std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
+  std::ostringstream out;
+  const JointIdentificationResult& fit = run.fit;
+  out << "Identification (eq. 14: log-Cholesky theta relative to the URDF prior, log-det regularizer)\n";
+  out << "  " << model.bodies().size() << " bodies, " << model.effects().size() << " effect terms, "
+      << model.num_parameters() << " parameters; " << run.train_samples << " training samples";
+  if (run.fit_validation) out << ", " << run.validation_samples << " validation samples";
+  if (run.validation_left_out > 0) {
+    out << " (" << run.validation_left_out << " more left out: a value or prediction not finite)";
+  }
+  out << "\n  Levenberg-Marquardt: " << fit.lm.iterations << " iterations, stopped on " << ToString(fit.lm.reason)
+      << (fit.lm.converged() ? " (converged)" : " (NOT converged)") << ", " << Format("%.3f", run.fit_seconds)
+      << " s with the regressor (" << run.outliers.rounds << " fit" << (run.outliers.rounds == 1 ? "" : "s")
+      << " of the outlier screening)\n";
+  const OutlierReport& o = run.outliers;
+  if (!o.rejected.empty()) {
+    out << "  outliers: " << o.rejected.size() << " of " << run.train_samples + static_cast<int>(o.rejected.size())
+        << " training rows left out (" << o.non_finite.size() << " with non-finite values; the others beyond "
+        << Format("%.3g", o.threshold) << " robust standard deviations of the residual), e.g.\n";
+    for (const std::string& r : o.reasons) out << "    " << r << "\n";
+  }
+  out << "  cost: data " << Format("%.6g", fit.data_cost) << " N^2 m^2, regularizer " << Format("%.6g", fit.regularizer)
+      << "\n\n";
+
+  bool all_consistent = true;
+  out << "Bodies (each in its own link frame; inertia about the COM)";
+  if (run.uncertainty) {
+    out << "; +- one standard deviation from the fit's curvature with the torque noise estimated from the residual ("
+        << Format("%.4g", run.uncertainty->noise_sigma) << " N m); \"held by the prior\": the data determine it "
+        << "less than the regularizer does";
+  } else if (!run.uncertainty_unavailable.empty()) {
+    out << "; no standard deviations: " << run.uncertainty_unavailable;
+  }
+  out << "\n";
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const InertialParams body = model.BodyInertia(e, fit.x);
+    const ConsistencyReport c = CheckConsistency(body);
+    all_consistent = all_consistent && c.fully_consistent();
+    const InertialParams prior = model.BodyInertia(e, Eigen::VectorXd::Zero(model.num_parameters()));
+    const Vector3 com = body.com();
+    const Matrix3 I = body.rotational_inertia_about_com();
+    Vector3 moments;
+    Matrix3 axes;
+    Principal(I, &moments, &axes);
+    out << "  " << model.bodies()[e].name << ": mass " << Format("%.6g", body.mass()) << " kg (prior "
+        << Format("%.6g", prior.mass()) << "), COM [" << Format("%.5g", com.x()) << ", " << Format("%.5g", com.y())
+        << ", " << Format("%.5g", com.z()) << "] m\n";
+    out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << Format("%.5g", I(0, 0)) << " "
+        << Format("%.5g", I(1, 1)) << " " << Format("%.5g", I(2, 2)) << " " << Format("%.5g", I(0, 1)) << " "
+        << Format("%.5g", I(1, 2)) << " " << Format("%.5g", I(0, 2)) << "] kg m^2\n";
+    out << "    principal moments [" << Format("%.5g", moments[0]) << " " << Format("%.5g", moments[1]) << " "
+        << Format("%.5g", moments[2]) << "] kg m^2 about axes";
+    for (int k = 0; k < 3; ++k) {
+      out << " (" << Format("%.3f", axes(0, k)) << " " << Format("%.3f", axes(1, k)) << " " << Format("%.3f", axes(2, k))
+          << ")";
+    }
+    out << "\n";
+    if (run.uncertainty) {
+      out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
+    }
+    out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
+        << " (mass " << Format("%.3g", c.mass) << " kg, triangle margin " << Format("%.3g", c.min_triangle_margin)
+        << " kg m^2, min eig J " << Format("%.3g", c.min_pseudo_inertia_eigenvalue) << ")\n";
+  }
+  if (!model.effects().empty()) {
+    out << "\nEffects\n";
+    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+      const EffectTerm& t = model.effects()[k];
+      const std::vector<double> v = model.EffectValues(k, fit.x);
+      const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
+      out << "  " << ToString(t.kind) << "@" << t.joint << ":";
+      for (size_t i = 0; i < v.size(); ++i) {
+        out << " " << names[i] << " = " << Format("%.6g", v[i]);
+        if (run.uncertainty) out << " +- " << Format("%.3g", run.uncertainty->effects[k][i]);
+        out << " " << units[i];
+      }
+      out << "\n";
+    }
+  }
+  auto table = [&](const char* what, const TorqueErrors& prior, const TorqueErrors& fitted) {
+    out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
+    for (int k = 0; k < model.num_dofs(); ++k) {
+      out << "  " << model.dof_names()[k] << ": " << Format("%.4g", prior.rms[k]) << " ("
+          << Format("%.1f", 100 * prior.relative_rms[k]) << " %) -> " << Format("%.4g", fitted.rms[k]) << " ("
+          << Format("%.1f", 100 * fitted.relative_rms[k]) << " %)\n";
+    }
+    out << "  all joints: " << Format("%.4g", prior.total_rms) << " (" << Format("%.1f", 100 * prior.total_relative_rms)
+        << " %) -> " << Format("%.4g", fitted.total_rms) << " (" << Format("%.1f", 100 * fitted.total_relative_rms)
+        << " %)\n";
+  };
+  table("training", run.prior_train, run.fit_train);
+  if (run.fit_validation) table("validation", *run.prior_validation, *run.fit_validation);
+
+  const IdentifiabilityReport& id = run.identifiability;
+  out << "\nIdentifiability: " << id.rank << " of " << id.num_parameters
+      << " regressor columns identified (condition number " << Format("%.3g", id.condition_number) << ")";
+  if (id.directions.empty()) {
+    out << "; every direction is excited\n";
+  } else {
+    out << "; the data do not see " << id.directions.size()
+        << " directions (the regularizer keeps them at the prior):\n";
+    for (int k = 0; k < static_cast<int>(id.directions.size()) && k < max_directions; ++k) {
+      out << "  - " << id.directions[k].description << "\n";
+    }
+    if (static_cast<int>(id.directions.size()) > max_directions) {
+      out << "  ... and " << id.directions.size() - max_directions << " more (see --json)\n";
+    }
+  }
+  out << "\n" << (all_consistent ? "Every identified body is physically consistent."
+                                 : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
+      << "\n";
+  return out.str();
+}
+
+nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, bool* all_consistent) {
+  bool consistent = true;
+  nlohmann::json bodies = nlohmann::json::array();
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const InertialParams body = model.BodyInertia(e, x);
+    const ConsistencyReport c = CheckConsistency(body);
+    consistent = consistent && c.fully_consistent();
+    const Matrix3 I = body.rotational_inertia_about_com();
+    Vector3 moments;
+    Matrix3 axes;
+    Principal(I, &moments, &axes);
+    nlohmann::json b;
+    b["name"] = model.bodies()[e].name;
+    b["mass"] = body.mass();
+    b["com"] = VectorJson(body.com());
+    b["inertia_about_com"] = MatrixJson(I);
+    b["principal_moments"] = VectorJson(moments);
+    b["principal_axes"] = MatrixJson(axes);
+    b["pi"] = VectorJson(body.vector());
+    b["theta"] = VectorJson(x.segment<10>(10 * e));
+    b["consistency"] = {{"mass", c.mass},
+                        {"min_inertia_eigenvalue_com", c.min_inertia_eigenvalue_com},
+                        {"min_triangle_margin", c.min_triangle_margin},
+                        {"min_pseudo_inertia_eigenvalue", c.min_pseudo_inertia_eigenvalue}};
+    b["physically_consistent"] = c.fully_consistent();
+    bodies.push_back(b);
+  }
+  if (all_consistent != nullptr) *all_consistent = consistent;
+  return bodies;
+}
+
+nlohmann::json EffectsJson(const RobotDynamics& model, const Eigen::VectorXd& x) {
+  nlohmann::json effects = nlohmann::json::array();
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    const std::vector<double> v = model.EffectValues(k, x);
+    const std::vector<std::string> names = EffectValueNames(t.kind);
+    nlohmann::json values = nlohmann::json::object();
+    for (size_t i = 0; i < v.size(); ++i) values[names[i]] = v[i];
+    EffectSpec spec;
+    spec.kind = t.kind;
+    spec.target = t.joint;
+    spec.velocity_scale = t.velocity_scale;
+    spec.steepness = t.steepness;
+    spec.shift = t.shift;
+    effects.push_back({{"effect", std::string(ToString(t.kind))},
+                       {"joint", t.joint},
+                       {"item", EffectItem(spec)},
+                       {"values", values}});
+  }
+  return effects;
+}
+
+nlohmann::json PerJointJson(const RobotDynamics& model, const Eigen::VectorXd& per_joint, double total) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < model.num_dofs(); ++k) j[model.dof_names()[k]] = per_joint[k];
+  j["total"] = total;
+  return j;
+}
+
+nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run) {
+  const JointIdentificationResult& fit = run.fit;
+  nlohmann::json j;
+  j["iterations"] = fit.lm.iterations;
+  j["stop_reason"] = std::string(ToString(fit.lm.reason));
+  j["converged"] = fit.lm.converged();
+  j["fit_seconds"] = run.fit_seconds;
+  j["prior_weight"] = run.prior_weight;
+  j["train_samples"] = run.train_samples;
+  j["cost"] = {{"data", fit.data_cost}, {"regularizer", fit.regularizer}};
+  j["rms_train"] = PerJointJson(model, run.fit_train.rms, run.fit_train.total_rms);
+  j["relative_rms_train"] = PerJointJson(model, run.fit_train.relative_rms, run.fit_train.total_relative_rms);
+  j["rms_prior_train"] = PerJointJson(model, run.prior_train.rms, run.prior_train.total_rms);
+  j["relative_rms_prior_train"] = PerJointJson(model, run.prior_train.relative_rms, run.prior_train.total_relative_rms);
+  if (run.fit_validation) {
+    j["validation_samples"] = run.validation_samples;
+    j["validation_left_out"] = run.validation_left_out;
+    j["rms_validation"] = PerJointJson(model, run.fit_validation->rms, run.fit_validation->total_rms);
+    j["relative_rms_validation"] =
+        PerJointJson(model, run.fit_validation->relative_rms, run.fit_validation->total_relative_rms);
+    j["rms_prior_validation"] = PerJointJson(model, run.prior_validation->rms, run.prior_validation->total_rms);
+    j["relative_rms_prior_validation"] =
+        PerJointJson(model, run.prior_validation->relative_rms, run.prior_validation->total_relative_rms);
+  }
+  bool all_consistent = true;
+  j["bodies"] = BodiesJson(model, fit.x, &all_consistent);
+  j["effects"] = EffectsJson(model, fit.x);
+  if (run.uncertainty) {
+    j["noise_sigma"] = run.uncertainty->noise_sigma;
+    j["effective_parameters"] = run.uncertainty->effective_parameters;
+    for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+      j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(run.uncertainty->bodies[e], &run.uncertainty->body_held[e]);
+    }
+    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+      const std::vector<std::string> names = EffectValueNames(model.effects()[k].kind);
+      nlohmann::json stds = nlohmann::json::object();
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        const double sd = run.uncertainty->effects[k][i];
+        stds[names[i]] = std::isfinite(sd) ? nlohmann::json(sd) : nlohmann::json("inf");
+      }
+      j["effects"][k]["std"] = stds;
+    }
+  }
+  const OutlierReport& o = run.outliers;
+  nlohmann::json scale = nlohmann::json::object();
+  for (int k = 0; k < model.num_dofs() && k < o.scale.size(); ++k) scale[model.dof_names()[k]] = o.scale[k];
+  j["outliers"] = {{"rejected", o.rejected.size()},
+                   {"non_finite", o.non_finite.size()},
+                   {"rows", std::vector<int>(o.rejected.begin(), o.rejected.begin() + std::min<std::size_t>(20, o.rejected.size()))},
+                   {"threshold", o.threshold},
+                   {"scale", scale},
+                   {"rounds", o.rounds},
+                   {"reasons", o.reasons}};
+  j["physically_consistent"] = all_consistent;
+  const IdentifiabilityReport& id = run.identifiability;
+  nlohmann::json directions = nlohmann::json::array();
+  for (const UnidentifiedDirection& d : id.directions) {
+    nlohmann::json terms = nlohmann::json::object();
+    for (const auto& [name, coefficient] : d.terms) terms[name] = coefficient;
+    directions.push_back({{"description", d.description}, {"terms", terms}});
+  }
+  j["unidentified"] = {{"rank", id.rank},
+                       {"parameters", id.num_parameters},
+                       {"condition_number", id.condition_number},
+                       {"directions", directions}};
+  j["x"] = VectorJson(fit.x);
+  return j;
+}
+
+}  // namespace inertial

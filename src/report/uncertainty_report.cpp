@@ -1,0 +1,162 @@
+#include "inertial/report/uncertainty_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "inertial/report/identification_report.hpp"
+
+namespace inertial {
+namespace {
+
+constexpr const char* kInertiaNames[6] = {"Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
+constexpr const char* kAxisNames[3] = {"x", "y", "z"};
+
+std::string G(double x) {
+  if (std::isinf(x)) return "inf";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+nlohmann::json Number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); }
+
+std::string Vector(const Eigen::VectorXd& v) {
+  std::string s = "[";
+  for (int i = 0; i < v.size(); ++i) s += (i ? " " : "") + G(v[i]);
+  return s + "]";
+}
+
+}  // namespace
+
+ModelUncertainty FromFit(const FitUncertainty& fit) {
+  ModelUncertainty u;
+  u.bodies = fit.bodies;
+  u.held = fit.body_held;
+  u.effects = fit.effects;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "from the fit's curvature, torque noise %.3g N m estimated from the residual", fit.noise_sigma);
+  u.source = buf;
+  return u;
+}
+
+std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& estimator) {
+  const Eigen::MatrixXd P = estimator.estimator().Covariance();
+  if (P.size() == 0) return std::nullopt;
+  const RobotDynamics& model = estimator.model();
+  ModelUncertainty u;
+  u.source = "from the " + std::string(ToString(estimator.kind())) + " estimator's covariance";
+  const bool linear = estimator.kind() == EstimatorKind::kLinearRls;
+  const Eigen::VectorXd& x = estimator.estimator().parameters();
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const EstimatedBody& body = model.bodies()[e];
+    Matrix10 C;
+    InertialParams pi;
+    if (linear) {  // x = w: the tree body's pi and its covariance block directly
+      C = P.block<10, 10>(10 * body.tree_body, 10 * body.tree_body);
+      pi = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
+    } else {
+      Matrix10 J;
+      body.map.ToPi(x.segment<10>(10 * e), &J);
+      const Matrix10 L = ReportFrameMap(body);
+      C = L * J * P.block<10, 10>(10 * e, 10 * e) * J.transpose() * L.transpose();
+      pi = model.BodyInertia(e, x);
+    }
+    u.bodies.push_back(pi.mass() > 0 ? UncertaintyOf(pi, C) : BodyUncertainty{});
+  }
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    std::vector<double> stds;
+    if (linear) {  // coefficients are w itself; a spring's q0 = w1 / w0 to first order
+      const int f = t.first_feature;
+      stds.push_back(std::sqrt(std::max(0.0, P(f, f))));
+      if (t.kind == EffectKind::kAsymmetric) stds.push_back(std::sqrt(std::max(0.0, P(f + 1, f + 1))));
+      if (t.kind == EffectKind::kSpring) {
+        const double k0 = x[f], kq = x[f + 1];
+        Eigen::Vector2d g(-kq / (k0 * k0), 1.0 / k0);
+        stds.push_back(std::sqrt(std::max(0.0, g.dot(P.block<2, 2>(f, f) * g))));
+      }
+    } else {
+      const int p = t.first_parameter;
+      const std::vector<double> v = model.EffectValues(k, x);
+      const double sd = std::sqrt(std::max(0.0, P(p, p)));
+      stds.push_back(t.kind == EffectKind::kOffset ? sd : v[0] * sd);  // b = e^s: db = b ds
+      if (t.kind == EffectKind::kSpring) stds.push_back(std::sqrt(std::max(0.0, P(p + 1, p + 1))));
+      if (t.kind == EffectKind::kAsymmetric) stds.push_back(v[1] * std::sqrt(std::max(0.0, P(p + 1, p + 1))));
+    }
+    u.effects.push_back(stds);
+  }
+  return u;
+}
+
+std::vector<std::string> HeldQuantities(const BodyHeldByPrior& held) {
+  std::vector<std::string> names;
+  if (held.mass) names.push_back("mass");
+  for (int i = 0; i < 3; ++i) {
+    if (held.com[i]) names.push_back(std::string("com.") + kAxisNames[i]);
+  }
+  for (int i = 0; i < 6; ++i) {
+    if (held.inertia_about_com[i]) names.push_back(kInertiaNames[i]);
+  }
+  return names;
+}
+
+std::string BodyUncertaintyText(const InertialParams& body, const BodyUncertainty& u, const BodyHeldByPrior* held) {
+  const Matrix3 I = body.mass() > 0 ? body.rotational_inertia_about_com() : Matrix3::Zero();
+  Vector6 inertia;
+  inertia << I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(1, 2), I(0, 2);
+  std::string s = "mass " + G(body.mass()) + " +- " + G(u.mass) + " kg";
+  if (held != nullptr && held->mass) s += " (held by the prior)";
+  s += ", COM " + Vector(body.mass() > 0 ? Eigen::VectorXd(body.com()) : Eigen::VectorXd::Zero(3)) + " +- " +
+       Vector(u.com) + " m, inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] " + Vector(inertia) + " +- " +
+       Vector(u.inertia_about_com) + " kg m^2";
+  if (held != nullptr) {
+    const std::vector<std::string> names = HeldQuantities(*held);
+    std::string others;
+    for (const std::string& n : names) {
+      if (n != "mass") others += (others.empty() ? "" : ", ") + n;
+    }
+    if (!others.empty()) s += "; held by the prior (the data barely determine them): " + others;
+  }
+  return s;
+}
+
+nlohmann::json BodyUncertaintyJson(const BodyUncertainty& u, const BodyHeldByPrior* held) {
+  nlohmann::json com = nlohmann::json::array(), inertia = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) com.push_back(Number(u.com[i]));
+  for (int i = 0; i < 6; ++i) inertia.push_back(Number(u.inertia_about_com[i]));
+  nlohmann::json j = {{"mass_std", Number(u.mass)}, {"com_std", com}, {"inertia_about_com_std", inertia}};
+  j["held_by_prior"] = held != nullptr ? HeldQuantities(*held) : std::vector<std::string>{};
+  return j;
+}
+
+std::map<std::string, std::string> UncertaintyNotes(const RobotDynamics& model, const ModelSnapshot& snapshot,
+                                                    const ModelUncertainty& u) {
+  std::map<std::string, std::string> notes;
+  for (int e = 0; e < static_cast<int>(model.bodies().size()) && e < static_cast<int>(u.bodies.size()); ++e) {
+    if (!snapshot.bodies[e]) continue;
+    const BodyHeldByPrior* held = e < static_cast<int>(u.held.size()) ? &u.held[e] : nullptr;
+    notes[model.bodies()[e].name] =
+        "standard deviations (" + u.source + "): " + BodyUncertaintyText(*snapshot.bodies[e], u.bodies[e], held);
+  }
+  for (int k = 0; k < static_cast<int>(model.effects().size()) && k < static_cast<int>(u.effects.size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
+    std::string s;
+    for (std::size_t i = 0; i < u.effects[k].size() && i < names.size(); ++i) {
+      s += (i ? ", " : "") + names[i] + " = " + G(snapshot.effect_values[k][i]) + " +- " + G(u.effects[k][i]) + " " +
+           units[i];
+    }
+    notes[std::string(ToString(t.kind)) + "@" + t.joint] = "standard deviations (" + u.source + "): " + s;
+  }
+  return notes;
+}
+
+ModelSnapshot SnapshotWithUncertainty(const OnlineJointEstimator& estimator) {
+  ModelSnapshot snapshot = SnapshotOf(estimator);
+  if (const std::optional<ModelUncertainty> u = FromOnlineEstimator(estimator)) {
+    snapshot.notes = UncertaintyNotes(estimator.model(), snapshot, *u);
+  }
+  return snapshot;
+}
+
+}  // namespace inertial

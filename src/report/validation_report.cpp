@@ -1,0 +1,191 @@
+#include "inertial/report/validation_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/report/diagnosis_html.hpp"
+#include "inertial/report/diagnosis_report.hpp"
+#include "inertial/estimation/outlier_rejection.hpp"
+#include "inertial/report/identification_report.hpp"
+
+namespace inertial {
+namespace {
+
+constexpr double kWindowSeconds = 1.0;  // as diagnose's "where it fails"
+constexpr int kWorstWindows = 3;
+
+std::string F(double x, const char* format = "%.4g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
+}
+
+std::string Percent(double share) { return std::isfinite(share) ? F(100.0 * share, "%.2f") + " %" : "n/a"; }
+
+nlohmann::json PerChannel(const std::vector<std::string>& channels, const Eigen::VectorXd& v, double total) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t k = 0; k < channels.size(); ++k) j[channels[k]] = v[static_cast<int>(k)];
+  j["total"] = total;
+  return j;
+}
+
+constexpr int kNamedRows = 3;
+
+// Keeps the finite rows of v.signals / v.predicted, naming the others; throws if none is left.
+void LeaveOutNonFinite(ModelValidation* v) {
+  const std::vector<int> bad = NonFiniteRows(v->predicted, v->signals);
+  if (bad.empty()) return;
+  const JointSamples& s = v->signals;
+  for (int k = 0; k < static_cast<int>(bad.size()) && k < kNamedRows; ++k) {
+    const int i = bad[k];
+    std::string what = "the model's prediction";
+    for (int j = 0; j < s.tau.cols(); ++j) {
+      if (!(std::abs(s.tau(i, j)) < kLargestSquarable)) what = "tau_" + v->channels[j];
+      if (!std::isfinite(s.qd(i, j))) what = "qd_" + v->channels[j];
+    }
+    v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + F(s.t[i], "%.10g") + " s): " + what +
+                                  " is not finite or too large to square");
+  }
+  if (static_cast<int>(bad.size()) == s.size()) {
+    throw std::invalid_argument("no sample gives a finite prediction (first: " + v->left_out_reasons.front() +
+                                "): a coefficient or inertia of the model is too large, or the log's values are");
+  }
+  const std::vector<int> keep = RowsExcept(s.size(), bad);
+  Eigen::MatrixXd predicted(static_cast<int>(keep.size()), v->predicted.cols());
+  for (int r = 0; r < static_cast<int>(keep.size()); ++r) predicted.row(r) = v->predicted.row(keep[r]);
+  v->predicted = predicted;
+  v->signals = SelectSamples(s, keep);
+  v->left_out = static_cast<int>(bad.size());
+}
+
+}  // namespace
+
+std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data) {
+  std::vector<int> rows;
+  const int n = static_cast<int>(data.tau.cols());
+  for (int i = 0; i < data.size(); ++i) {
+    bool bad = !predicted.row(i).allFinite() || !data.q.row(i).allFinite() || !data.qd.row(i).allFinite() ||
+               !data.qdd.row(i).allFinite() || !data.tau.row(i).allFinite() || !std::isfinite(data.t[i]);
+    // A torque or an error whose square overflows (1e300 from a glitch) would make the RMS inf
+    // and the relative error NaN.
+    for (int c = 0; c < predicted.cols() && n > 0 && !bad; ++c) {
+      bad = !(std::abs(data.tau(i, c % n)) < kLargestSquarable) ||
+            !(std::abs(predicted(i, c) - data.tau(i, c % n)) < kLargestSquarable);
+    }
+    if (bad) rows.push_back(i);
+  }
+  return rows;
+}
+
+ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data) {
+  ModelValidation v;
+  v.channels = model.dof_names();
+  v.unit = "N m";
+  v.predicted = PredictJointTorques(model, x, data);
+  v.signals = data;
+  LeaveOutNonFinite(&v);
+  v.errors = CompareTorques(v.predicted, v.signals.tau);
+  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
+  bool consistent = true;
+  v.model_json["bodies"] = BodiesJson(model, x, &consistent);
+  v.model_json["effects"] = EffectsJson(model, x);
+  v.physically_consistent = consistent;
+  return v;
+}
+
+ModelValidation ValidateBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data) {
+  const int P = data.num_pairs();
+  if (P < 1) throw std::invalid_argument("single-body validation needs at least 2 samples");
+  if (x.size() != model.num_parameters()) throw std::invalid_argument("single-body validation: wrong parameter count");
+  ModelValidation v;
+  v.channels = {"mx", "my", "mz", "fx", "fy", "fz"};
+  v.unit = "N m | N";
+  JointSamples& s = v.signals;
+  s.joint_names = v.channels;
+  s.t.resize(P);
+  s.q = s.qdd = Eigen::MatrixXd::Zero(P, 6);
+  s.qd.resize(P, 6);
+  s.tau.resize(P, 6);
+  for (int i = 0; i < P; ++i) {
+    s.t[i] = 0.5 * (data.samples[i].t + data.samples[i + 1].t);
+    s.qd.row(i) = (0.5 * (data.samples[i].twist + data.samples[i + 1].twist)).transpose();
+    s.tau.row(i) = BodyEffectModel::MeasuredPair(data, i).transpose();
+  }
+  v.predicted = model.Residuals(x, data) + s.tau;
+  LeaveOutNonFinite(&v);
+  v.errors = CompareTorques(v.predicted, v.signals.tau);
+  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
+  const InertialParams body = model.Body(x);
+  const ConsistencyReport report = CheckConsistency(body);
+  v.physically_consistent = report.fully_consistent();
+  const Vector10 pi = body.vector();
+  v.model_json["body"] = {{"mass", body.mass()},
+                          {"com", body.mass() > 0 ? std::vector<double>{body.com().x(), body.com().y(), body.com().z()}
+                                                  : std::vector<double>{0, 0, 0}},
+                          {"pi", std::vector<double>(pi.data(), pi.data() + 10)},
+                          {"physically_consistent", v.physically_consistent}};
+  nlohmann::json effects = nlohmann::json::array();
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const Eigen::VectorXd e = model.EffectValues(k, x);
+    effects.push_back({{"effect", std::string(ToString(model.effects()[k]))},
+                       {"values", std::vector<double>(e.data(), e.data() + e.size())}});
+  }
+  v.model_json["effects"] = effects;
+  return v;
+}
+
+std::string ValidationText(const ModelValidation& v) {
+  std::ostringstream out;
+  out << "Validation of " << v.model_source << " on " << v.data_source << " (" << v.predicted.rows()
+      << (v.unit == "N m" ? " samples" : " sample pairs") << "; no fit: the model as stated)\n";
+  out << "RMS error (predicted - measured) and relative RMS (over the RMS of the measurement):\n";
+  for (std::size_t k = 0; k < v.channels.size(); ++k) {
+    out << "  " << v.channels[k] << ": " << F(v.errors.rms[static_cast<int>(k)]) << " ("
+        << Percent(v.errors.relative_rms[static_cast<int>(k)]) << ")\n";
+  }
+  out << "  all: " << F(v.errors.total_rms) << " (" << Percent(v.errors.total_relative_rms) << ") " << v.unit << "\n";
+  if (v.left_out > 0) {
+    out << "  left out: " << v.left_out << " samples whose measurement or prediction is not finite, e.g.\n";
+    for (const std::string& r : v.left_out_reasons) out << "    " << r << "\n";
+  }
+  out << "\n";
+  out << WhereItFailsText(v.channels, v.residuals, "residual of the model") << "\n";
+  out << (v.physically_consistent ? "Every body of the model is physically consistent.\n"
+                                  : "SOME BODY OF THE MODEL IS NOT PHYSICALLY CONSISTENT.\n");
+  return out.str();
+}
+
+nlohmann::json ValidationJson(const ModelValidation& v) {
+  nlohmann::json j = v.model_json;
+  j["model"] = v.model_source;
+  j["data"] = v.data_source;
+  j["samples"] = v.predicted.rows();
+  j["rms"] = PerChannel(v.channels, v.errors.rms, v.errors.total_rms);
+  j["relative_rms"] = PerChannel(v.channels, v.errors.relative_rms, v.errors.total_relative_rms);
+  j["where_it_fails"] = WhereItFailsJson(v.channels, v.residuals);
+  j["physically_consistent"] = v.physically_consistent;
+  j["left_out"] = {{"samples", v.left_out}, {"reasons", v.left_out_reasons}};
+  return j;
+}
+
+void WriteValidationReport(const std::string& directory, const ModelValidation& v, const std::string& text) {
+  DiagnosisPlotData p;
+  p.title = "inertial validate";
+  p.channels = v.channels;
+  p.unit = v.unit;
+  p.velocity_label = v.unit == "N m" ? "joint velocity [rad/s]" : "matching twist component (wx..wz, vx..vz) [rad/s | m/s]";
+  p.t = v.signals.t;
+  p.measured = v.signals.tau;
+  p.predicted = v.predicted;
+  p.velocity = v.signals.qd;
+  p.error_labels = {v.model_source};
+  p.error_rms = {v.errors.rms};
+  const std::vector<std::string> summary{"RMS error of " + v.model_source + " on " + v.data_source + ": " +
+                                         F(v.errors.total_rms) + " " + v.unit + " (" +
+                                         Percent(v.errors.total_relative_rms) + " of the measurement's RMS)."};
+  WriteDiagnosisHtml(directory, p, summary, {}, text);
+}
+
+}  // namespace inertial
