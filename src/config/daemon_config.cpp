@@ -1,6 +1,7 @@
 #include "inertial/config/daemon_config.hpp"
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -17,12 +18,58 @@ LogLevel ParseLogLevel(const std::string& name) {
   throw std::invalid_argument("log level '" + name + "' is not one of error, warn, info, debug");
 }
 
+namespace {
+
+// The "tuning" object (daemon_config.hpp lists the keys, units, defaults and ranges).
+void ApplyTuning(const nlohmann::json& t, OnlineEstimatorOptions* e) {
+  if (!t.is_object()) throw std::invalid_argument("config: \"tuning\" must be an object");
+  static const std::set<std::string> kKeys{"theta_std", "effect_std", "forgetting", "process_noise",
+                                           "max_variance_factor", "huber", "gate", "max_consecutive_outliers",
+                                           "max_step", "gain"};
+  for (const auto& [key, value] : t.items()) {
+    if (kKeys.count(key) == 0) throw std::invalid_argument("config: tuning: unknown key \"" + key + "\"");
+  }
+  // A number in the range (lo, hi) or [lo, hi], as `closed_lo` and `closed_hi` say.
+  auto number = [&](const char* key, double lo, bool closed_lo, double hi, bool closed_hi, const char* range,
+                    auto&& apply) {
+    if (!t.contains(key)) return;
+    const nlohmann::json& v = t[key];
+    const double x = v.is_number() ? v.get<double>() : std::nan("");
+    const bool ok = std::isfinite(x) && (closed_lo ? x >= lo : x > lo) && (closed_hi ? x <= hi : x < hi);
+    if (!ok) throw std::invalid_argument(std::string("config: tuning: \"") + key + "\" must be a number " + range);
+    apply(x);
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  number("theta_std", 0, false, inf, false, "> 0", [&](double x) { e->theta_std = x; });
+  number("effect_std", 0, false, inf, false, "> 0", [&](double x) { e->effect_std = x; });
+  number("forgetting", 0, false, 1, true, "in (0, 1]", [&](double x) { e->kalman.forgetting = x; });
+  number("process_noise", 0, true, inf, false, ">= 0", [&](double x) { e->kalman.process_noise = x; });
+  number("max_variance_factor", 1, true, inf, false, ">= 1", [&](double x) { e->kalman.max_variance_factor = x; });
+  number("huber", 0, false, inf, false, "> 0", [&](double x) { e->kalman.huber = e->gradient.huber = x; });
+  number("gate", 0, false, inf, false, "> 0", [&](double x) { e->kalman.gate = e->gradient.gate = x; });
+  number("max_step", 0, false, inf, false, "> 0", [&](double x) { e->kalman.max_step = e->gradient.max_step = x; });
+  number("gain", 0, false, 2, false, "in (0, 2)", [&](double x) { e->gradient.gain = x; });
+  if (t.contains("max_consecutive_outliers")) {
+    const nlohmann::json& v = t["max_consecutive_outliers"];
+    if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 1000000000) {
+      throw std::invalid_argument("config: tuning: \"max_consecutive_outliers\" must be an integer >= 1");
+    }
+    e->kalman.max_consecutive_outliers = e->gradient.max_consecutive_outliers = v.get<int>();
+  }
+  if (!(e->kalman.gate > e->kalman.huber)) {
+    throw std::invalid_argument("config: tuning: \"gate\" must exceed \"huber\" (outliers lie beyond the down-weighted band)");
+  }
+}
+
+}  // namespace
+
 void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   if (!c.is_object()) throw std::invalid_argument("config: expected a JSON object");
   static const std::set<std::string> kKeys{"lcm_url",          "channel",          "estimate_channel", "residual_channel",
                                            "publish_rate_hz",  "residual_window_s", "checkpoint",
                                            "checkpoint_interval_s", "queue_capacity", "estimator",
-                                           "measurement_sigma", "log_level",        "format"};
+                                           "noise_tau",        "log_level",        "format",
+                                           "tuning"};
   for (const auto& [key, value] : c.items()) {
     if (kKeys.count(key) == 0) throw std::invalid_argument("config: unknown key \"" + key + "\"");
   }
@@ -46,7 +93,7 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   positive("publish_rate_hz", &o->publish_rate_hz);
   positive("residual_window_s", &o->residual_window_s);
   positive("checkpoint_interval_s", &o->checkpoint_interval_s);
-  positive("measurement_sigma", &o->estimator.measurement_sigma);
+  positive("noise_tau", &o->estimator.measurement_sigma);
   if (c.contains("queue_capacity")) {
     if (!c["queue_capacity"].is_number_integer() || c["queue_capacity"].get<long long>() < 1 ||
         c["queue_capacity"].get<long long>() > 100000) {
@@ -60,6 +107,7 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   text("log_level", &level);
   if (!level.empty()) o->log_level = ParseLogLevel(level);
   if (c.contains("format")) o->format = ParseJointMessageFormat(c["format"]);
+  if (c.contains("tuning")) ApplyTuning(c["tuning"], &o->estimator);
 }
 
 }  // namespace inertial

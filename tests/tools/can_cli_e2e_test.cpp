@@ -45,7 +45,7 @@ TEST(CanCli, SimulateAndReplayACandumpLog) {
     std::ofstream(dir / "leg.log", std::ios::app) << "# end of capture\n(99.000000) can0 123#GG\n";
   }
   r = RunCli({"replay", "--model", leg, "--candump", (dir / "leg.log").string(), "--can-config",
-              (dir / "motors.yaml").string(), "--sigma", "0.1"});
+              (dir / "motors.yaml").string(), "--noise-tau", "0.1"});
   ASSERT_EQ(r.exit_code, 0) << Describe(r);
   EXPECT_TRUE(Contains(r.out, "15003 frames; accepted 5000, rejected 1 (bad_line 1)")) << r.out;
   EXPECT_TRUE(Contains(r.out, "5000 complete ticks; unknown id 0, malformed 0, error frames 0, late 0")) << r.out;

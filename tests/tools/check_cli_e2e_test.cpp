@@ -34,7 +34,7 @@ std::string ImpossibleArm() {
 
 TEST(CheckCli, BundledRobotsAreConsistent) {
   for (const char* file : {"leg3.urdf", "arm7.urdf"}) {
-    const testing::CliRun r = RunCli({"check", Example(file)});
+    const testing::CliRun r = RunCli({"check", "--model", Example(file)});
     EXPECT_EQ(r.exit_code, 0) << Describe(r);
     EXPECT_TRUE(Contains(r.out, "all physically consistent")) << r.out;
   }
@@ -43,7 +43,7 @@ TEST(CheckCli, BundledRobotsAreConsistent) {
 TEST(CheckCli, ImpossibleLinkIsNamedWithItsFailedCheckAndRepaired) {
   const auto in = testing::TempUrdfPath("bad.urdf"), out = testing::TempUrdfPath("fixed.urdf");
   testing::WriteTextFile(in, ImpossibleArm());
-  const testing::CliRun r = RunCli({"check", in.string(), "--json"});
+  const testing::CliRun r = RunCli({"check", "--model", in.string(), "--json"});
   ASSERT_EQ(r.exit_code, 4) << Describe(r);
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["impossible"], 1);
@@ -57,14 +57,14 @@ TEST(CheckCli, ImpossibleLinkIsNamedWithItsFailedCheckAndRepaired) {
       EXPECT_TRUE(link["physically_consistent"].get<bool>());
     }
   }
-  const testing::CliRun text = RunCli({"check", in.string()});
+  const testing::CliRun text = RunCli({"check", "--model", in.string()});
   EXPECT_EQ(text.exit_code, 4);
   EXPECT_TRUE(Contains(text.out, "fore: IMPOSSIBLE")) << text.out;
 
-  const testing::CliRun repair = RunCli({"check", in.string(), "--repair", out.string()});
+  const testing::CliRun repair = RunCli({"check", "--model", in.string(), "--repair", out.string()});
   EXPECT_EQ(repair.exit_code, 4) << Describe(repair);  // the file checked is still impossible
   EXPECT_TRUE(Contains(repair.out, "every inertial in it is physically consistent")) << repair.out;
-  EXPECT_EQ(RunCli({"check", out.string()}).exit_code, 0);
+  EXPECT_EQ(RunCli({"check", "--model", out.string()}).exit_code, 0);
   // The repair keeps mass and COM, and leaves the consistent link alone.
   const RobotModel before = LoadUrdf(in.string(), UrdfLoadOptions{false});
   const RobotModel after = LoadUrdf(out.string());
@@ -84,10 +84,10 @@ TEST(CheckCli, ImpossibleLinkIsNamedWithItsFailedCheckAndRepaired) {
 TEST(CheckCli, FilesThatAreNotUrdfAreIoErrorsNamingThePath) {
   const auto path = testing::TempUrdfPath("not.urdf");
   testing::WriteTextFile(path, "<html><body>hello</body></html>");
-  const testing::CliRun r = RunCli({"check", path.string()});
+  const testing::CliRun r = RunCli({"check", "--model", path.string()});
   EXPECT_EQ(r.exit_code, 5) << Describe(r);
   EXPECT_TRUE(Contains(r.err, path.string())) << r.err;
-  EXPECT_EQ(RunCli({"check", "/nonexistent/robot.urdf"}).exit_code, 5);
+  EXPECT_EQ(RunCli({"check", "--model", "/nonexistent/robot.urdf"}).exit_code, 5);
 }
 
 }  // namespace

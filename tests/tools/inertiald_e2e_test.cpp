@@ -96,7 +96,7 @@ cd ")" + dir.string() + R"("
 ")" + ip + R"(" route add 224.0.0.0/4 dev lo
 URL="udpm://239.255.76.67:7667?ttl=0"
 LCM_DEFAULT_URL="$URL" ")" + logger + R"(" -q -f -c INERTIAL_JOINT_STATE\|INERTIAL_ESTIMATE recorded.lcm & LOGGER=$!
-start() { ")" + daemon + R"(" --model ")" + leg + R"(" --checkpoint state.json --checkpoint-interval 0.5 --publish-rate 20 --sigma 0.3 --lcm-url "$URL" 2>> daemon$1.err & DAEMON=$!; sleep 0.7; }
+start() { ")" + daemon + R"(" --model ")" + leg + R"(" --checkpoint state.json --checkpoint-interval 0.5 --publish-rate 20 --noise-tau 0.3 --lcm-url "$URL" 2>> daemon$1.err & DAEMON=$!; sleep 0.7; }
 play() { ")" + player + R"(" -s 4 -l "$URL" "$1" > /dev/null; }
 start 1; play part0.lcm; sleep 0.3
 kill -TERM $DAEMON; wait $DAEMON; echo "sigterm $?"

@@ -122,7 +122,7 @@ TEST(ValidateCli, TheTrueModelValidatesAtTheNoiseFloor) {
 TEST(ValidateCli, OnlineEstimateAsAModelFileIsCloseToTheBatchFit) {
   const Logs l = Simulate("online", "", "", 0.05);
   const fs::path online = l.dir / "online.urdf", batch = l.dir / "batch.urdf";
-  const testing::CliRun replay = RunCli({"replay", "--model", Leg(), "--log", l.train.string(), "--sigma", "0.05",
+  const testing::CliRun replay = RunCli({"replay", "--model", Leg(), "--log", l.train.string(), "--noise-tau", "0.05",
                                          "--write-urdf", online.string()});
   ASSERT_EQ(replay.exit_code, 0) << Describe(replay);
   const testing::CliRun identify =
@@ -179,7 +179,7 @@ TEST(ValidateCli, InertialdWritesItsModelOnASignalAndAtExit) {
   // The log plays in real time (file provider, speed 1): the signal comes while samples arrive.
   const std::string script = "\"" + std::string(daemon) + "\" --model \"" + Leg() + "\" --lcm-url \"file://" +
                              log.string() + "?speed=1\" --write-urdf \"" + out.string() +
-                             "\" --sigma 0.05 2> \"" + (dir / "err").string() + "\" & D=$!\nsleep 2\nkill -USR1 $D\n"
+                             "\" --noise-tau 0.05 2> \"" + (dir / "err").string() + "\" & D=$!\nsleep 2\nkill -USR1 $D\n"
                              "sleep 0.5\ncp \"" + out.string() + "\" \"" + (dir / "mid.urdf").string() +
                              "\"\nkill -0 $D && echo alive\nkill -TERM $D\nwait $D\necho \"exit $?\"\n";
   std::ofstream(dir / "run.sh") << script;

@@ -21,7 +21,7 @@ CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* c) {
       "positive definite, triangle inequalities of the principal moments, pseudo-inertia positive definite), "
       "with margins. Exit 0 if every link is consistent, 4 if any is not (also with --repair, which fixes the "
       "written copy, not the file checked).");
-  sub->add_option("model", c->model, "URDF robot description")->required();
+  sub->add_option("--model", c->model, "URDF robot description")->required();
   sub->add_option("--repair", c->repair,
                   "write a copy whose impossible links get the nearest consistent inertia: same mass and COM, "
                   "the second moments about the COM clipped from below (the Frobenius-nearest pseudo-inertia at "

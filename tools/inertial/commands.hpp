@@ -90,7 +90,7 @@ int RunDiagnoseCommand(const DiagnoseCommand& command);
 
 struct ReplayCommand {
   std::string model, log, candump, can_config, effects, config, channel, out, write_log, write_urdf, time_scale;
-  std::string estimator = "gauss_newton", sigma = "1", period = "0.1";
+  std::string estimator, noise_tau, publish_rate;  ///< empty: --config's, or the defaults
   bool realtime = false;
 };
 CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* command);

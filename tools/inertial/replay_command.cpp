@@ -33,9 +33,11 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   sub->add_option("--write-log", c->write_log, "estimates as an LCM log of inertial.estimate_t");
   sub->add_option("--write-urdf", c->write_urdf,
                   "the final estimate as a model file (URDF with links, effects, rotors, payloads) for validate --model");
-  sub->add_option("--estimator", c->estimator, "gauss_newton, gradient or linear_rls")->default_val("gauss_newton");
-  sub->add_option("--sigma", c->sigma, "torque measurement standard deviation [N m]")->default_val("1");
-  sub->add_option("--period", c->period, "seconds of log time between estimate rows")->default_val("0.1");
+  sub->add_option("--estimator", c->estimator, "gauss_newton, gradient or linear_rls (default: --config's or gauss_newton)");
+  sub->add_option("--noise-tau", c->noise_tau,
+                  "torque noise standard deviation the estimator assumes [N m] (default: --config's or 1)");
+  sub->add_option("--publish-rate", c->publish_rate,
+                  "estimates per second of log time (rows of --out and --write-log) [Hz] (default: --config's or 10)");
   sub->add_option("--time-scale", c->time_scale,
                   "joint CSV logs: multiply the time stamps by this to get seconds (1e-3 for ms, 1e-9 for ns)");
   sub->add_flag("--realtime", c->realtime, "follow the log's time stamps instead of running as fast as possible");
@@ -99,18 +101,8 @@ int RunReplayCommand(const ReplayCommand& c) {
     }
   }
   const std::string& path = c.candump.empty() ? c.log : c.candump;
-  status = ParseRealOption(c.sigma, "--sigma", 1e-12, 1e12, &estimator_options.measurement_sigma);
-  if (status == kOk) status = ParseRealOption(c.period, "--period", 1e-9, 1e9, &options.estimate_period_s);
-  if (status == kOk && !c.time_scale.empty()) {
-    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &options.csv.time_scale);
-  }
-  if (status != kOk) return status;
-  try {
-    estimator_options.kind = ParseEstimatorKind(c.estimator);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --estimator: " << e.what() << "\n";
-    return kUsage;
-  }
+  // inertiald's --config first (its channel, message format, estimator, noise and tuning, so that the
+  // replay runs the daemon's estimator), then the command line's options over it.
   if (!c.config.empty()) {
     std::ifstream in(c.config);
     if (!in) {
@@ -123,9 +115,31 @@ int RunReplayCommand(const ReplayCommand& c) {
       ApplyDaemonConfig(nlohmann::json::parse(in), &daemon);
       options.channel = daemon.input_channel;
       options.format = daemon.format;
+      estimator_options = daemon.estimator;
+      options.estimate_period_s = 1.0 / daemon.publish_rate_hz;
     } catch (const std::exception& e) {  // not JSON, or not a valid configuration: a file error
       std::cerr << "Error: --config: " << c.config << ": " << e.what() << "\n";
       return kIoError;
+    }
+  }
+  if (!c.noise_tau.empty()) {
+    status = ParseRealOption(c.noise_tau, "--noise-tau", 1e-12, 1e12, &estimator_options.measurement_sigma);
+  }
+  if (status == kOk && !c.publish_rate.empty()) {
+    double publish_rate = 10.0;
+    status = ParseRealOption(c.publish_rate, "--publish-rate", 1e-9, 1e9, &publish_rate);
+    options.estimate_period_s = 1.0 / publish_rate;
+  }
+  if (status == kOk && !c.time_scale.empty()) {
+    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &options.csv.time_scale);
+  }
+  if (status != kOk) return status;
+  if (!c.estimator.empty()) {
+    try {
+      estimator_options.kind = ParseEstimatorKind(c.estimator);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --estimator: " << e.what() << "\n";
+      return kUsage;
     }
   }
   if (!c.channel.empty()) options.channel = c.channel;

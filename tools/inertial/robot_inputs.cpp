@@ -30,7 +30,7 @@ int LoadRobotModel(const std::string& urdf, RobotModel* robot) {
   } catch (const UrdfError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     if (std::string(e.what()).find("not physically consistent") != std::string::npos) {
-      std::cerr << "hint: `inertial check " << urdf << " --repair fixed.urdf` writes the nearest consistent inertias\n";
+      std::cerr << "hint: `inertial check --model " << urdf << " --repair fixed.urdf` writes the nearest consistent inertias\n";
       return kInconsistentBody;
     }
     return kIoError;

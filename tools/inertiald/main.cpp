@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
       "estimator on every sample and publishes inertial.estimate_t. Exit codes: 0 ok, 1 LCM failure, 2 usage, "
       "5 a file error (model, config, motors.yaml: unreadable or not valid)."};
   std::string model_path, effects, config_path, lcm_url, channel, estimate_channel, residual_channel, checkpoint;
-  std::string estimator = "", log_level = "", publish_rate = "", checkpoint_interval = "", sigma = "";
+  std::string estimator = "", log_level = "", publish_rate = "", checkpoint_interval = "", noise_tau = "";
   bool body = false;
   std::string prior, write_urdf;
   app.add_option("--model", model_path, "URDF robot description (robots)");
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
                "overwritten); without it such a file stops the start and is left untouched");
   app.add_option("--publish-rate", publish_rate, "estimates per second (default 10)");
   app.add_option("--estimator", estimator, "gauss_newton (default), gradient or linear_rls");
-  app.add_option("--sigma", sigma, "torque measurement standard deviation [N m] (default 1)");
+  app.add_option("--noise-tau", noise_tau, "torque noise standard deviation the estimator assumes [N m] (default 1)");
   app.add_option("--write-urdf", write_urdf,
                  "write the current estimate as a model file (URDF: links, effects, rotors, payloads) at exit and on "
                  "SIGUSR1, for `inertial validate --model` or as the next prior");
@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
     };
     positive(publish_rate, "--publish-rate", &options.publish_rate_hz);
     positive(checkpoint_interval, "--checkpoint-interval", &options.checkpoint_interval_s);
-    positive(sigma, "--sigma", &options.estimator.measurement_sigma);
+    positive(noise_tau, "--noise-tau", &options.estimator.measurement_sigma);
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return 2;

@@ -37,8 +37,21 @@ struct DaemonOptions {
 
 /// From the --config JSON: {"lcm_url", "channel", "estimate_channel", "residual_channel",
 /// "publish_rate_hz", "residual_window_s", "checkpoint", "checkpoint_interval_s", "queue_capacity",
-/// "estimator", "measurement_sigma", "log_level", "format": {...joint_message.hpp...}}; absent keys
-/// keep *options' values. @throws std::invalid_argument naming the key.
+/// "estimator", "noise_tau", "log_level", "format": {...joint_message.hpp...}, "tuning": {...}};
+/// absent keys keep *options' values. "noise_tau" is the torque noise standard deviation the
+/// estimator assumes [N m] (the CLI's --noise-tau). "tuning" holds the estimator's own settings, each
+/// optional (defaults of kalman_update.hpp, gradient_estimator.hpp, online_joint_estimator.hpp):
+///   theta_std [1] 0.3: initial std of every log-Cholesky parameter, > 0
+///   effect_std [1] 1: initial std of every effect parameter, > 0
+///   forgetting [1] 1: lambda in (0, 1], P /= lambda per sample (Gauss-Newton, linear RLS)
+///   process_noise [parameter^2] 0: added to P's diagonal per sample, >= 0 (idem)
+///   max_variance_factor [1] 1: cap of P_ii under forgetting and process noise, times its initial value, >= 1
+///   huber [sigma] 3: normalized innovation where down-weighting starts, > 0
+///   gate [sigma] 30: normalized innovation beyond which a sample is an outlier, > huber
+///   max_consecutive_outliers [samples] 50: more in a row is a change (P reset), integer >= 1
+///   max_step [parameter] 0.5 (gradient 0.1): bound on |dx|_inf per sample, > 0
+///   gain [1] 0.05: the gradient law's normalized step, in (0, 2)
+/// @throws std::invalid_argument naming the key and its range.
 void ApplyDaemonConfig(const nlohmann::json& config, DaemonOptions* options);
 
 }  // namespace inertial

@@ -1,0 +1,69 @@
+#include "inertial/config/daemon_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace inertial {
+namespace {
+
+std::string ErrorOf(const std::string& text) {
+  DaemonOptions o;
+  try {
+    ApplyDaemonConfig(nlohmann::json::parse(text), &o);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DaemonConfig, TuningReachesTheEstimatorsAndAbsentKeysKeepTheDefaults) {
+  DaemonOptions o;
+  const OnlineEstimatorOptions defaults = o.estimator;
+  ApplyDaemonConfig(nlohmann::json::parse(R"({"noise_tau": 0.2, "tuning": {"forgetting": 0.995, "process_noise": 1e-9,
+      "max_variance_factor": 4, "huber": 2.5, "gate": 12, "max_consecutive_outliers": 7, "max_step": 0.2,
+      "gain": 0.1, "theta_std": 0.5, "effect_std": 2}})"),
+                    &o);
+  EXPECT_EQ(o.estimator.measurement_sigma, 0.2);
+  EXPECT_EQ(o.estimator.kalman.forgetting, 0.995);
+  EXPECT_EQ(o.estimator.kalman.process_noise, 1e-9);
+  EXPECT_EQ(o.estimator.kalman.max_variance_factor, 4.0);
+  EXPECT_EQ(o.estimator.kalman.huber, 2.5);
+  EXPECT_EQ(o.estimator.gradient.huber, 2.5);
+  EXPECT_EQ(o.estimator.kalman.gate, 12.0);
+  EXPECT_EQ(o.estimator.gradient.gate, 12.0);
+  EXPECT_EQ(o.estimator.kalman.max_consecutive_outliers, 7);
+  EXPECT_EQ(o.estimator.gradient.max_consecutive_outliers, 7);
+  EXPECT_EQ(o.estimator.kalman.max_step, 0.2);
+  EXPECT_EQ(o.estimator.gradient.gain, 0.1);
+  EXPECT_EQ(o.estimator.theta_std, 0.5);
+  EXPECT_EQ(o.estimator.effect_std, 2.0);
+
+  DaemonOptions partial;
+  ApplyDaemonConfig(nlohmann::json::parse(R"({"tuning": {"forgetting": 0.99}})"), &partial);
+  EXPECT_EQ(partial.estimator.kalman.forgetting, 0.99);
+  EXPECT_EQ(partial.estimator.kalman.huber, defaults.kalman.huber);
+  EXPECT_EQ(partial.estimator.gradient.max_step, defaults.gradient.max_step);
+  EXPECT_EQ(partial.estimator.measurement_sigma, defaults.measurement_sigma);
+}
+
+TEST(DaemonConfig, OutOfRangeTuningIsRefusedNamingTheKeyAndItsRange) {
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 0}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 1.5}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"process_noise": -1}})"), "config: tuning: \"process_noise\" must be a number >= 0");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"max_variance_factor": 0.5}})"),
+            "config: tuning: \"max_variance_factor\" must be a number >= 1");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"gain": 2}})"), "config: tuning: \"gain\" must be a number in (0, 2)");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"huber": "3"}})"), "config: tuning: \"huber\" must be a number > 0");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"max_consecutive_outliers": 2.5}})"),
+            "config: tuning: \"max_consecutive_outliers\" must be an integer >= 1");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"huber": 40}})"),
+            "config: tuning: \"gate\" must exceed \"huber\" (outliers lie beyond the down-weighted band)");
+  EXPECT_EQ(ErrorOf(R"({"tuning": {"forgeting": 0.9}})"), "config: tuning: unknown key \"forgeting\"");
+  EXPECT_EQ(ErrorOf(R"({"tuning": 3})"), "config: \"tuning\" must be an object");
+  EXPECT_EQ(ErrorOf(R"({"measurement_sigma": 1})"), "config: unknown key \"measurement_sigma\"");
+  EXPECT_EQ(ErrorOf(R"({"noise_tau": -1})"), "config: \"noise_tau\" must be a positive number");
+}
+
+}  // namespace
+}  // namespace inertial
