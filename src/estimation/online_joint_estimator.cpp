@@ -108,6 +108,7 @@ void CopySample(const JointSamples& log, int i, JointSample* out) {
   out->qd = log.qd.row(i).transpose();
   out->qdd = log.qdd.row(i).transpose();
   out->tau = log.tau.row(i).transpose();
+  out->has_qdd = true;
 }
 
 }  // namespace inertial

@@ -1,5 +1,7 @@
 #include "inertial/formats/joint_csv.hpp"
 
+#include "inertial/estimation/log_differentiation.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -215,11 +217,11 @@ class Parser {
     const SavitzkyGolayOptions& sg = options_.differentiation;
     const std::string method = " by Savitzky-Golay (order " + std::to_string(sg.order) + ", window " + ShortestText(sg.window) + " s)";
     if (derive_qd_) {
-      report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) + "; all velocities derived from q" + method +
+      report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) + "; all velocities are derived from q" + method +
                                 (ignored_qd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qd)));
     }
     if (derive_qdd_) {
-      report_.notices.push_back(source_ + ": no acceleration column " + Join(missing_qdd) + "; all accelerations derived from q" +
+      report_.notices.push_back(source_ + ": no acceleration column " + Join(missing_qdd) + "; all accelerations are derived from q" +
                                 method + (ignored_qdd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qdd)));
     }
   }
@@ -313,27 +315,12 @@ class Parser {
                                 (report_.skipped_rows > kListedBadLines ? ", ..." : "") + "; the first: " + first_reason_);
     }
     ScaleTimeStamps(samples.t, options_.time_scale, source_ + ": " + Column(used_[static_cast<std::size_t>(time_slot_)].column));
-    if (derive_qd_ || derive_qdd_) {
-      SavitzkyGolayResult sg;
-      try {
-        sg = SavitzkyGolay(samples.t, samples.q, options_.differentiation);
-      } catch (const std::invalid_argument& e) {
-        throw CsvError(source_ + ": cannot derive " + (derive_qd_ ? "velocities" : "accelerations") + " from q: " + e.what());
-      }
-      if (derive_qd_) samples.qd = std::move(sg.first);
-      if (derive_qdd_) samples.qdd = std::move(sg.second);
-      // Finite positions can still give derivatives that overflow (huge q over short steps; found by
-      // the joint CSV fuzz harness): refused, as a non-finite cell is.
-      for (Eigen::Index i = 0; i < samples.q.rows(); ++i) {
-        if (!samples.qd.row(i).allFinite() || !samples.qdd.row(i).allFinite()) {
-          throw CsvError(source_ + ": the " + (samples.qd.row(i).allFinite() ? "accelerations" : "velocities") +
-                         " derived from q are not finite at sample " + std::to_string(i) + " (t = " +
-                         std::to_string(samples.t[i]) + " s): q too large for its time steps");
-        }
-      }
-      report_.derived_qd = derive_qd_;
-      report_.derived_qdd = derive_qdd_;
-    }
+    // Derivatives of q are the preprocessing stage's (estimation/log_differentiation.hpp): the
+    // missing columns are zero here and the report says which.
+    if (derive_qd_) samples.qd.setZero();
+    if (derive_qdd_) samples.qdd.setZero();
+    report_.missing_qd = derive_qd_;
+    report_.missing_qdd = derive_qdd_;
     return samples;
   }
 
@@ -472,6 +459,27 @@ JointSamples ReadJointCsv(const std::string& path, const std::vector<std::string
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(CannotText("read", "", path));
   return ParseJointCsv(in, path, joint_names, options, report);
+}
+
+JointSamples ParseJointLog(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,
+                           const JointCsvOptions& options, JointCsvReport* report) {
+  JointCsvReport local;
+  JointCsvReport& r = report ? *report : local;
+  JointSamples log = ParseJointCsv(in, source_name, joint_names, options, &r);
+  try {
+    DeriveFromPositions(&log, r.missing_qd, r.missing_qdd, options.differentiation);
+  } catch (const std::invalid_argument& e) {
+    throw CsvError(source_name + ": " + e.what());
+  }
+  return log;
+}
+
+JointSamples ReadJointLog(const std::string& path, const std::vector<std::string>& joint_names, const JointCsvOptions& options,
+                          JointCsvReport* report) {
+  CheckJointNames(joint_names);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CsvError(CannotText("read", "", path));
+  return ParseJointLog(in, path, joint_names, options, report);
 }
 
 void WriteJointCsv(const std::string& path, const JointSamples& samples) {

@@ -1,6 +1,5 @@
 #include "inertial/runtime/estimation_daemon.hpp"
 
-
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -13,16 +12,10 @@
 
 #include <unistd.h>
 
-#include "inertial/report/uncertainty_report.hpp"
-#include "inertial/estimate_t.hpp"
-#include "inertial/estimation/parameter_layout.hpp"
-#include "inertial/inertia/consistency.hpp"
-#include "inertial/transport/body_message.hpp"
-#include "inertial/runtime/bounded_queue.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
-#include "inertial/transport/lcm_log_check.hpp"
-#include "inertial/model/rigid_body_regressor.hpp"
 #include "inertial/residual_t.hpp"
+#include "inertial/runtime/bounded_queue.hpp"
+#include "inertial/transport/lcm_log_check.hpp"
 
 namespace inertial {
 namespace {
@@ -31,103 +24,75 @@ double NowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// The estimator statuses reported as rejection reasons.
-const char* RejectionName(UpdateStatus s) {
-  switch (s) {
-    case UpdateStatus::kNonFinite: return "non_finite";
-    case UpdateStatus::kOutOfOrder: return "out_of_order";
-    case UpdateStatus::kWrongSize: return "wrong_size";
-    case UpdateStatus::kOutlier: return "outlier";
-    case UpdateStatus::kNumerical: return "numerical";
-    default: return nullptr;
-  }
-}
-
 }  // namespace
 
-std::uint64_t DaemonCounters::total_rejected() const {
-  std::uint64_t n = 0;
-  for (const auto& [reason, count] : rejected) n += count;
-  return n;
-}
-
-struct EstimationDaemon::Sample {
-  JointSample joint;
-  BodySample body;
-};
-
+// The receiver's half: the source and the decoding stage, and the queue into the estimator thread.
 struct EstimationDaemon::Impl {
-  Impl(const DaemonOptions& o, std::optional<JointMessageDecoder> d, const Sample& prototype)
+  Impl(const DaemonOptions& o, SampleDecoder d, const Sample& prototype)
       : lcm(o.lcm_url), decoder(std::move(d)), queue(o.queue_capacity, prototype), scratch(prototype) {}
   lcm::LCM lcm;  // received on by the receiver thread, published on by the estimator thread
-  std::optional<JointMessageDecoder> decoder;  // robot mode; single-body messages need no state
-  std::optional<CanJointAssembler> assembler;  // CAN mode: frames from `bus` instead of LCM
-  std::unique_ptr<CanBus> bus;
+  SampleDecoder decoder;         // receiver thread, under decode_mutex
+  std::unique_ptr<CanBus> bus;   // CAN mode: frames from here instead of LCM
   BoundedQueue<Sample> queue;
-  Sample scratch;  // decoded by the receiver thread only
+  Sample scratch;  // decoded into by the receiver thread only
+  mutable std::mutex decode_mutex;  // decoder and queue_full, against counters() from other threads
+  std::uint64_t queue_full = 0;
   EstimationDaemon* owner = nullptr;
 
   // A rejection is logged at warn the first time its reason occurs, then at debug level (counted).
-  void LogRejection(const std::string& reason, const std::string& text) {
+  void LogRejection(Rejection r, const std::string& text) {
+    const std::string reason(ToString(r));
     const bool first = owner->FirstTime("rejected " + reason);
     owner->Log(first ? LogLevel::kWarn : LogLevel::kDebug,
                text + (first ? " (further '" + reason + "' rejections are counted, not logged at warn)" : ""));
   }
 
-  // CAN mode: one frame into the assembler; a completed tick into the queue.
+  // A decoded sample into the queue (a full queue drops it, counted).
+  void Push() {
+    if (!queue.TryPush(scratch)) {
+      std::lock_guard<std::mutex> lock(decode_mutex);
+      ++queue_full;
+    }
+  }
+
+  // CAN mode: one frame into the decoder; a completed tick into the queue.
   void OnFrame(const CanFrame& frame) {
-    const CanCounters before = assembler->counters();
     std::string why;
-    const bool tick = assembler->Feed(frame, &scratch.joint, &why);
-    const bool dropped = tick && !queue.TryPush(scratch);
-    const CanCounters& after = assembler->counters();
+    bool tick = false;
+    Rejection r = Rejection::kNone;
     {
-      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
-      ++owner->counters_.received;
-      auto add = [&](const char* reason, std::uint64_t a, std::uint64_t b) {
-        if (b > a) owner->counters_.rejected[reason] += b - a;
-      };
-      add("unknown_id", before.unknown_id, after.unknown_id);
-      add("malformed", before.malformed, after.malformed);
-      add("error_frame", before.error_frames, after.error_frames);
-      add("late", before.late, after.late);
-      add("superseded", before.superseded, after.superseded);
-      add("priming", before.priming, after.priming);
-      if (dropped) ++owner->counters_.dropped;
+      std::lock_guard<std::mutex> lock(decode_mutex);
+      tick = decoder.DecodeFrame(frame, &scratch, &why);
+      r = decoder.last_rejection();
     }
-    if (after.malformed > before.malformed) LogRejection("malformed", "rejected a CAN frame: " + why);
+    if (tick) Push();
+    if (r == Rejection::kMalformed) LogRejection(r, "rejected a CAN frame: " + why);
   }
 
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    try {
-      Handle(rbuf, channel);
-    } catch (const std::exception& e) {  // nothing may escape the LCM thread
-      {
-        std::lock_guard<std::mutex> lock(owner->counters_mutex_);
-        ++owner->counters_.received;
-        ++owner->counters_.rejected["decode"];
-      }
-      LogRejection("decode", std::string("a message on ") + owner->options_.input_channel +
-                                 " could not be handled: " + e.what());
+  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+    std::string why;
+    bool decoded = false;
+    Rejection r = Rejection::kNone;
+    {
+      std::lock_guard<std::mutex> lock(decode_mutex);
+      decoded = decoder.DecodeMessage(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch, &why);
+      r = decoder.last_rejection();
+    }
+    if (decoded) {
+      Push();
+    } else {
+      LogRejection(r, "rejected a message on " + owner->options_.input_channel + " (" + std::string(ToString(r)) +
+                          "): " + why);
     }
   }
 
-  void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
-    std::string why;
-    const MessageRejection r =
-        decoder ? decoder->Decode(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch.joint, &why)
-                : DecodeBodyWrench(rbuf->data, rbuf->data_size, &scratch.body, &why);
-    bool dropped = false;
-    if (r == MessageRejection::kNone) dropped = !queue.TryPush(scratch);
-    {
-      std::lock_guard<std::mutex> lock(owner->counters_mutex_);
-      ++owner->counters_.received;
-      if (r != MessageRejection::kNone) ++owner->counters_.rejected[ToString(r)];
-      if (dropped) ++owner->counters_.dropped;
-    }
-    if (r != MessageRejection::kNone && r != MessageRejection::kPriming) {
-      LogRejection(ToString(r), "rejected a message on " + owner->options_.input_channel + " (" + ToString(r) + "): " + why);
-    }
+  SampleCounters decoded() const {
+    std::lock_guard<std::mutex> lock(decode_mutex);
+    return decoder.counters();
+  }
+  std::uint64_t dropped() const {
+    std::lock_guard<std::mutex> lock(decode_mutex);
+    return queue_full;
   }
 };
 
@@ -144,125 +109,109 @@ void CheckOptions(const DaemonOptions& o) {
 
 }  // namespace
 
-EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options) : options_(std::move(options)) {
-  CheckOptions(options_);
-  const int n = model.num_dofs(), P = model.num_parameters();
-  JointMessageDecoder decoder(options_.format, model.dof_names());
-  estimator_ = std::make_unique<OnlineJointEstimator>(std::move(model), Eigen::VectorXd::Zero(P), options_.estimator);
-  Sample prototype;
-  prototype.joint.q = prototype.joint.qd = prototype.joint.qdd = prototype.joint.tau = Eigen::VectorXd::Zero(n);
-  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype);
-  Start(n);
+namespace {
+
+// By const reference (a copy at start-up): the delegating constructors also read the model's DOF
+// names, and the order in which arguments are evaluated is unspecified.
+std::unique_ptr<OnlineJointEstimator> RobotEstimator(const RobotDynamics& model, const DaemonOptions& o) {
+  return std::make_unique<OnlineJointEstimator>(model, Eigen::VectorXd::Zero(model.num_parameters()), o.estimator);
 }
 
-EstimationDaemon::EstimationDaemon(const InertialParams& prior, DaemonOptions options) : options_(std::move(options)) {
-  CheckOptions(options_);
-  body_ = std::make_unique<OnlineBodyEstimator>(prior, options_.estimator);
-  impl_ = std::make_unique<Impl>(options_, std::nullopt, Sample{});
-  Start(6);
-}
+}  // namespace
+
+EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options)
+    : EstimationDaemon(options, SampleDecoder::JointMessages(options.format, model.dof_names()),
+                       RobotEstimator(model, options), nullptr, nullptr) {}
+
+EstimationDaemon::EstimationDaemon(const InertialParams& prior, DaemonOptions options)
+    : EstimationDaemon(options, SampleDecoder::BodyWrenches(), nullptr,
+                       std::make_unique<OnlineBodyEstimator>(prior, options.estimator), nullptr) {}
 
 EstimationDaemon::EstimationDaemon(RobotDynamics model, DaemonOptions options, CanConfig can, std::unique_ptr<CanBus> bus)
-    : options_(std::move(options)) {
-  CheckOptions(options_);
-  if (!bus) throw std::invalid_argument("inertiald: no CAN bus");
-  const int n = model.num_dofs(), P = model.num_parameters();
-  CanJointAssembler assembler(std::move(can), model.dof_names());
-  estimator_ = std::make_unique<OnlineJointEstimator>(std::move(model), Eigen::VectorXd::Zero(P), options_.estimator);
-  Sample prototype;
-  prototype.joint.q = prototype.joint.qd = prototype.joint.qdd = prototype.joint.tau = Eigen::VectorXd::Zero(n);
-  impl_ = std::make_unique<Impl>(options_, std::nullopt, prototype);
-  std::vector<CanId> ids;
-  for (const MotorConfig& m : assembler.config().motors) ids.push_back({m.can_id, m.extended});
-  bus->SetFilters(ids);
-  impl_->assembler.emplace(std::move(assembler));
-  impl_->bus = std::move(bus);
-  Start(n);
+    : EstimationDaemon(options, SampleDecoder::CanFrames(std::move(can), model.dof_names()),
+                       RobotEstimator(model, options), nullptr, std::move(bus)) {
+  if (!impl_->bus) throw std::invalid_argument("inertiald: no CAN bus");
 }
 
-void EstimationDaemon::Start(int num_channels) {
+EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder, std::unique_ptr<OnlineJointEstimator> robot,
+                                   std::unique_ptr<OnlineBodyEstimator> body, std::unique_ptr<CanBus> bus)
+    : options_(std::move(options)), robot_(std::move(robot)), body_(std::move(body)) {
+  CheckOptions(options_);
+  const double cutoff = decoder.accel_cutoff_hz();
+  pipeline_ = robot_ ? std::make_unique<SamplePipeline>(robot_.get(), cutoff, options_.residual_window_s)
+                     : std::make_unique<SamplePipeline>(body_.get(), options_.residual_window_s);
+  const Sample prototype = robot_ ? Sample::ForJoints(robot_->model().num_dofs()) : Sample{};
+  const bool can = decoder.can_mode();
+  const std::vector<CanId> ids = decoder.can_ids();
+  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype);
   impl_->owner = this;
+  if (can && bus) {
+    bus->SetFilters(ids);
+    impl_->bus = std::move(bus);
+  }
   if (!impl_->lcm.good()) {
     throw std::runtime_error("LCM could not start on '" + (options_.lcm_url.empty() ? "the default URL" : options_.lcm_url) +
                              "'");
   }
-  window_sum_ = window_rms_ = Eigen::VectorXd::Zero(num_channels);
-  RecursiveEstimator& est = body_ ? body_->estimator() : estimator_->estimator();
-  if (!options_.checkpoint_path.empty()) {
-    const std::filesystem::path path(options_.checkpoint_path);
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' is a directory, not a file");
-    }
-    // Refused now rather than failing at every interval: the directory must take new files.
-    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-    if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK | X_OK) != 0) {
-      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "': cannot write files in '" + dir.string() +
-                               "' (" + (std::filesystem::exists(dir, ec) ? "permission denied" : "no such directory") +
-                               ")");
-    }
+  RestoreCheckpoint();
+  if (!can) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+}
+
+void EstimationDaemon::RestoreCheckpoint() {
+  if (options_.checkpoint_path.empty()) return;
+  const std::filesystem::path path(options_.checkpoint_path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' is a directory, not a file");
   }
-  if (!options_.checkpoint_path.empty() && std::filesystem::exists(options_.checkpoint_path)) {
-    // Not restored: refuse to start (the file is left as it is) unless told to start afresh.
-    auto unusable = [&](const std::string& why) {
-      if (!options_.start_fresh) {
-        throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' " + why +
-                                 "; it is left untouched: give another path, or --fresh to start from the priors and "
-                                 "overwrite it");
-      }
-      Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " " + why +
-                               "; starting from the priors (--fresh): it will be overwritten");
-    };
-    std::string description;
-    std::optional<EstimatorState> state;
-    try {
-      state = LoadEstimatorState(options_.checkpoint_path, &description);
-    } catch (const std::exception& e) {
-      unusable(std::string("is not a checkpoint this daemon can read (") + e.what() + ")");
-    }
-    std::string why;
-    if (!state) {
-      // already reported
-    } else if (description != Description()) {
-      unusable("is a checkpoint of another model or estimator (" + description + ")");
-    } else if (!est.Restore(*state, &why)) {
-      unusable("cannot be restored: " + why);
-    } else {
-      restored_ = true;
-      Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" + std::to_string(state->counters.accepted()) +
-                               " samples, last at t = " + std::to_string(state->last_time) + " s)");
-    }
+  // Refused now rather than failing at every interval: the directory must take new files.
+  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "': cannot write files in '" + dir.string() +
+                             "' (" + (std::filesystem::exists(dir, ec) ? "permission denied" : "no such directory") +
+                             ")");
   }
-  if (!impl_->bus) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+  if (!std::filesystem::exists(options_.checkpoint_path)) return;
+  // Not restored: refuse to start (the file is left as it is) unless told to start afresh.
+  auto unusable = [&](const std::string& why) {
+    if (!options_.start_fresh) {
+      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' " + why +
+                               "; it is left untouched: give another path, or --fresh to start from the priors and "
+                               "overwrite it");
+    }
+    Log(LogLevel::kWarn, "checkpoint " + options_.checkpoint_path + " " + why +
+                             "; starting from the priors (--fresh): it will be overwritten");
+  };
+  std::string description;
+  std::optional<EstimatorState> state;
+  try {
+    state = LoadEstimatorState(options_.checkpoint_path, &description);
+  } catch (const std::exception& e) {
+    unusable(std::string("is not a checkpoint this daemon can read (") + e.what() + ")");
+  }
+  std::string why;
+  if (!state) {
+    // already reported
+  } else if (description != CheckpointDescription(*pipeline_)) {
+    unusable("is a checkpoint of another model or estimator (" + description + ")");
+  } else if (!pipeline_->estimator().Restore(*state, &why)) {
+    unusable("cannot be restored: " + why);
+  } else {
+    restored_ = true;
+    Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" + std::to_string(state->counters.accepted()) +
+                             " samples, last at t = " + std::to_string(state->last_time) + " s)");
+  }
 }
 
 EstimationDaemon::~EstimationDaemon() = default;
 
-const RecursiveEstimator& EstimationDaemon::recursive_estimator() const {
-  return body_ ? body_->estimator() : estimator_->estimator();
-}
-
 lcm::LCM& EstimationDaemon::lcm() { return impl_->lcm; }
 
-std::string EstimationDaemon::Description() const {
-  if (body_) {
-    return std::string(body_->estimator().kind()) + " estimator; single body";
-  }
-  return CheckpointDescription(*estimator_);
-}
-
-std::string CheckpointDescription(const OnlineJointEstimator& estimator) {
-  std::string d = std::string(ToString(estimator.kind())) + " estimator; joints";
-  for (const std::string& j : estimator.model().dof_names()) d += " " + j;
-  d += "; parameters";
-  for (const std::string& p : estimator.model().ParameterNames()) d += " " + p;
-  return d;
-}
-
 void EstimationDaemon::WriteModel() {
-  if (!model_sink_ || !estimator_) return;
+  if (!model_sink_ || !robot_) return;
   try {
-    model_sink_(*estimator_);
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    model_sink_(*robot_);
   } catch (const std::exception& e) {
     Log(LogLevel::kError, std::string("writing the model failed: ") + e.what());
   }
@@ -290,70 +239,35 @@ void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
   }
 }
 
-void EstimationDaemon::Account(UpdateStatus status, double t, const Eigen::VectorXd& residual) {
-  {
-    std::lock_guard<std::mutex> lock(counters_mutex_);
-    if (status == UpdateStatus::kAccepted) {
-      ++counters_.accepted;
-    } else if (const char* name = RejectionName(status)) {
-      ++counters_.rejected[name];
-    }
-  }
-  if (status != UpdateStatus::kAccepted) return;
-  if (window_start_ < 0 || t >= window_start_ + options_.residual_window_s) {
-    if (window_count_ > 0) {
-      window_rms_ = (window_sum_ / window_count_).cwiseSqrt();
-      window_completed_ = true;
-    }
-    window_sum_.setZero();
-    window_count_ = 0;
-    window_start_ = t;
-  }
-  window_sum_ += residual.cwiseAbs2();
-  ++window_count_;
-  last_t_ = t;
-}
-
-void EstimationDaemon::Process(const Sample& sample) {
-  if (body_) {
-    // The residual of the estimate before this sample (samples with an acceleration only; pairs
-    // by the midpoint rule have none of their own).
-    const BodySample& b = sample.body;
-    Vector6 residual = Vector6::Zero();
-    if (b.has_acceleration) residual = b.wrench - RigidBodyRegressor(b.twist, b.acceleration, b.gravity) * body_->Body().vector();
-    const UpdateStatus status = body_->Update(b);
-    if (status != UpdateStatus::kBuffered) Account(status, b.t, residual);
-    return;
-  }
-  const JointSample& j = sample.joint;
-  const UpdateStatus status = estimator_->Update(j);
-  Account(status, j.t, estimator_->residual());
-  if (!options_.residual_channel.empty()) {
-    inertial::residual_t m;
-    m.utime = static_cast<std::int64_t>(std::llround(j.t * 1e6));
-    m.status = std::string(ToString(status));
-    m.num_channels = static_cast<std::int32_t>(j.tau.size());
-    m.channel_names = estimator_->model().dof_names();
-    m.measured.assign(j.tau.data(), j.tau.data() + j.tau.size());
-    const Eigen::VectorXd& p = estimator_->predicted();
-    m.predicted.assign(p.data(), p.data() + p.size());
-    m.residual.resize(m.measured.size());
-    for (size_t k = 0; k < m.measured.size(); ++k) m.residual[k] = m.measured[k] - m.predicted[k];
-    impl_->lcm.publish(options_.residual_channel, &m);
-  }
+void EstimationDaemon::Process(Sample* sample) {
+  std::lock_guard<std::mutex> lock(process_mutex_);
+  const SamplePipeline::Outcome outcome = pipeline_->Process(sample);
+  if (!robot_ || options_.residual_channel.empty() || outcome.rejection != Rejection::kNone) return;
+  const JointSample& j = sample->joint;
+  inertial::residual_t m;
+  m.utime = static_cast<std::int64_t>(std::llround(j.t * 1e6));
+  m.status = std::string(ToString(outcome.status));
+  m.num_channels = static_cast<std::int32_t>(j.tau.size());
+  m.channel_names = robot_->model().dof_names();
+  m.measured.assign(j.tau.data(), j.tau.data() + j.tau.size());
+  const Eigen::VectorXd& p = robot_->predicted();
+  m.predicted.assign(p.data(), p.data() + p.size());
+  m.residual.resize(m.measured.size());
+  for (size_t k = 0; k < m.measured.size(); ++k) m.residual[k] = m.measured[k] - m.predicted[k];
+  impl_->lcm.publish(options_.residual_channel, &m);
 }
 
 void EstimationDaemon::Publish(std::int64_t utime) {
-  // The last complete window; before the first is complete, the samples so far.
-  const Eigen::VectorXd rms =
-      !window_completed_ && window_count_ > 0 ? Eigen::VectorXd((window_sum_ / window_count_).cwiseSqrt()) : window_rms_;
-  const std::vector<std::uint8_t> bytes =
-      body_ ? EncodeBodyEstimate(*body_, "body", utime, rms, options_.residual_window_s, counters())
-            : EncodeEstimate(*estimator_, utime, rms, options_.residual_window_s, counters());
+  const SampleCounters totals = counters().samples;
+  std::vector<std::uint8_t> bytes;
+  {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    bytes = EncodeEstimate(*pipeline_, utime, totals);
+  }
   const bool sent = impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0;
   {
-    std::lock_guard<std::mutex> lock(counters_mutex_);
-    ++(sent ? counters_.published : counters_.publish_failures);
+    std::lock_guard<std::mutex> lock(sinks_mutex_);
+    ++(sent ? published_ : publish_failures_);
   }
   if (!sent && FirstTime("publish")) {
     Log(LogLevel::kError, "cannot publish on " + options_.estimate_channel + " (" + options_.lcm_url +
@@ -366,16 +280,21 @@ void EstimationDaemon::Publish(std::int64_t utime) {
 void EstimationDaemon::Checkpoint() {
   if (options_.checkpoint_path.empty()) return;
   try {
-    SaveEstimatorState(options_.checkpoint_path, recursive_estimator().State(), Description());
+    EstimatorState state;
     {
-      std::lock_guard<std::mutex> lock(counters_mutex_);
-      ++counters_.checkpoints;
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      state = pipeline_->estimator().State();
+    }
+    SaveEstimatorState(options_.checkpoint_path, state, CheckpointDescription(*pipeline_));
+    {
+      std::lock_guard<std::mutex> lock(sinks_mutex_);
+      ++checkpoints_;
     }
     if (Recovered("checkpoint")) Log(LogLevel::kInfo, "checkpoint " + options_.checkpoint_path + " written again");
   } catch (const std::exception& e) {
     {
-      std::lock_guard<std::mutex> lock(counters_mutex_);
-      ++counters_.checkpoint_failures;
+      std::lock_guard<std::mutex> lock(sinks_mutex_);
+      ++checkpoint_failures_;
     }
     const bool first = FirstTime("checkpoint");
     Log(first ? LogLevel::kError : LogLevel::kDebug,
@@ -386,7 +305,7 @@ void EstimationDaemon::Checkpoint() {
 
 int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   std::atomic<bool> receiver_failed{false}, receiver_stop{false};
-  Sample sample = impl_->scratch;  // before the receiver thread writes scratch
+  Sample sample = impl_->scratch;  // before the receiver thread writes scratch (sized once)
   std::thread receiver([&] {
     CanFrame frame;
     while (!receiver_stop) {
@@ -410,11 +329,14 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
                            std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
   double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
   double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
-  auto utime = [&] { return static_cast<std::int64_t>(std::llround(last_t_ * 1e6)); };
+  auto utime = [&] {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
+  };
   bool failed = false;
   try {
     while (!stop && !receiver_failed) {
-      if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(sample);
+      if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(&sample);
       const double now = NowSeconds();
       if (now >= next_publish) {
         Publish(utime());
@@ -433,7 +355,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   receiver_stop = true;
   receiver.join();
   if (failed) return 1;
-  while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(sample);
+  while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
   Publish(utime());
   Checkpoint();
   WriteModel();
@@ -446,139 +368,33 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
 }
 
 DaemonCounters EstimationDaemon::counters() const {
-  std::lock_guard<std::mutex> lock(counters_mutex_);
-  return counters_;
+  DaemonCounters c;
+  {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    c.samples = pipeline_->counters();
+  }
+  c.samples = TotalCounters(impl_->decoded(), c.samples, impl_->dropped());
+  std::lock_guard<std::mutex> lock(sinks_mutex_);
+  c.published = published_;
+  c.checkpoints = checkpoints_;
+  c.checkpoint_failures = checkpoint_failures_;
+  c.publish_failures = publish_failures_;
+  return c;
 }
 
 std::string EstimationDaemon::CountersText() const {
   const DaemonCounters c = counters();
+  const SampleCounters& s = c.samples;
+  const std::uint64_t dropped = s[Rejection::kQueueFull];
   std::ostringstream out;
-  out << "received " << c.received << ", accepted " << c.accepted << ", rejected " << c.total_rejected();
-  if (!c.rejected.empty()) {
-    out << " (";
-    bool first = true;
-    for (const auto& [reason, count] : c.rejected) {
-      out << (first ? "" : ", ") << reason << " " << count;
-      first = false;
-    }
-    out << ")";
-  }
-  out << ", dropped " << c.dropped << "; published " << c.published << " estimates, " << c.checkpoints
+  out << "received " << s.received << ", accepted " << s.accepted << ", rejected " << s.total_rejected() - dropped;
+  const std::string reasons = RejectionsText(s, Rejection::kQueueFull);
+  if (!reasons.empty()) out << " (" << reasons << ")";
+  out << ", dropped " << dropped << "; published " << c.published << " estimates, " << c.checkpoints
       << " checkpoints";
   if (c.publish_failures > 0) out << "; " << c.publish_failures << " estimates LCM could not send";
   if (c.checkpoint_failures > 0) out << "; " << c.checkpoint_failures << " checkpoints that could not be written";
   return out.str();
-}
-
-namespace {
-
-// One body's part of estimate_t.
-inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialParams& body, const Vector10* theta,
-                                       const BodyUncertainty* uncertainty) {
-  inertial::body_estimate_t b;
-  b.name = name;
-  const Vector10 pi = body.vector();
-  for (int i = 0; i < 10; ++i) {
-    b.pi[i] = pi[i];
-    b.theta[i] = theta != nullptr ? (*theta)[i] : 0.0;
-  }
-  b.mass = body.mass();
-  const Vector3 com = body.mass() > 0 ? body.com() : Vector3::Zero();
-  for (int i = 0; i < 3; ++i) b.com[i] = com[i];
-  b.mass_std = 0;
-  for (int i = 0; i < 3; ++i) b.com_std[i] = 0;
-  for (int i = 0; i < 6; ++i) b.inertia_std[i] = 0;
-  if (uncertainty != nullptr && body.mass() > 0) {
-    const BodyUncertainty& u = *uncertainty;
-    b.mass_std = u.mass;
-    for (int i = 0; i < 3; ++i) b.com_std[i] = u.com[i];
-    for (int i = 0; i < 6; ++i) b.inertia_std[i] = u.inertia_about_com[i];  // about the COM, as estimate_t says
-  }
-  const ConsistencyReport c = CheckConsistency(body);
-  b.min_triangle_margin = c.min_triangle_margin;
-  b.min_pseudo_inertia_eigenvalue = c.min_pseudo_inertia_eigenvalue;
-  b.physically_consistent = c.fully_consistent();
-  return b;
-}
-
-void SetCounters(const DaemonCounters& counters, inertial::estimate_t* m) {
-  m->received = static_cast<std::int64_t>(counters.received);
-  m->accepted = static_cast<std::int64_t>(counters.accepted);
-  m->rejected = static_cast<std::int64_t>(counters.total_rejected());
-  m->dropped = static_cast<std::int64_t>(counters.dropped);
-  for (const auto& [reason, count] : counters.rejected) {
-    m->reject_reasons.push_back(reason);
-    m->reject_counts.push_back(static_cast<std::int64_t>(count));
-  }
-  m->num_reasons = static_cast<std::int32_t>(m->reject_reasons.size());
-}
-
-std::vector<std::uint8_t> Encode(const inertial::estimate_t& m) {
-  std::vector<std::uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
-  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
-}
-
-}  // namespace
-
-std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, const std::string& name, std::int64_t utime,
-                                             const Eigen::VectorXd& residual_rms, double residual_window,
-                                             const DaemonCounters& counters) {
-  inertial::estimate_t m;
-  m.utime = utime;
-  m.estimator = std::string(est.estimator().kind());
-  const Eigen::VectorXd& x = est.estimator().parameters();
-  const Eigen::MatrixXd P = est.estimator().Covariance();
-  const bool per_body = m.estimator != "linear_rls";
-  const Vector10 theta = per_body ? Vector10(x.head<10>()) : Vector10::Zero();
-  const bool with_cov = per_body && P.rows() == x.size() && est.Body().mass() > 0;
-  BodyUncertainty u;
-  if (with_cov) u = UncertaintyOf(est.Body(), est.layout().BodyCovariance(0, x, P));
-  m.bodies.push_back(BodyEstimate(name, est.Body(), per_body ? &theta : nullptr, with_cov ? &u : nullptr));
-  m.num_bodies = 1;
-  m.num_effects = 0;
-  m.channel_names = {"mx", "my", "mz", "fx", "fy", "fz"};
-  m.num_channels = 6;
-  m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
-  m.residual_rms.resize(6, 0.0);
-  m.residual_window = residual_window;
-  SetCounters(counters, &m);
-  return Encode(m);
-}
-
-std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::int64_t utime,
-                                         const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const DaemonCounters& counters) {
-  const RobotDynamics& model = est.model();
-  inertial::estimate_t m;
-  m.utime = utime;
-  m.estimator = std::string(ToString(est.kind()));
-  const Eigen::VectorXd& x = est.estimator().parameters();
-  const bool per_body = est.kind() != EstimatorKind::kLinearRls;
-  // The same standard deviations as replay's and the model file's (uncertainty_report.hpp): each
-  // body's in its report frame (a payload's in its link's frame).
-  const std::optional<ModelUncertainty> uncertainty = per_body ? FromOnlineEstimator(est) : std::nullopt;
-  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const InertialParams body = est.Body(e);
-    const Vector10 theta = per_body ? Vector10(x.segment<10>(10 * e)) : Vector10::Zero();
-    m.bodies.push_back(BodyEstimate(model.bodies()[e].name, body, per_body ? &theta : nullptr,
-                                    uncertainty && body.mass() > 0 ? &uncertainty->bodies[e] : nullptr));
-  }
-  m.num_bodies = static_cast<std::int32_t>(m.bodies.size());
-  const std::vector<std::string> names = model.FeatureNames();
-  const Eigen::VectorXd& w = est.coefficients();
-  for (int f = model.num_inertia_features(); f < model.num_features(); ++f) {
-    m.effect_names.push_back(names[f]);
-    m.effect_values.push_back(w[f]);
-  }
-  m.num_effects = static_cast<std::int32_t>(m.effect_names.size());
-  m.channel_names = model.dof_names();
-  m.num_channels = static_cast<std::int32_t>(m.channel_names.size());
-  m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
-  m.residual_rms.resize(m.channel_names.size(), 0.0);
-  m.residual_window = residual_window;
-  SetCounters(counters, &m);
-  return Encode(m);
 }
 
 }  // namespace inertial

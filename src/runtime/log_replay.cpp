@@ -1,8 +1,5 @@
 #include "inertial/runtime/log_replay.hpp"
 
-#include "inertial/formats/file_error.hpp"
-#include "inertial/transport/lcm_log_check.hpp"
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +9,12 @@
 #include <stdexcept>
 #include <thread>
 
+#include "inertial/formats/file_error.hpp"
 #include "inertial/formats/joint_csv.hpp"
+#include "inertial/runtime/estimate_message.hpp"
+#include "inertial/runtime/sample_decoder.hpp"
+#include "inertial/transport/can_frame.hpp"
+#include "inertial/transport/lcm_log_check.hpp"
 
 namespace inertial {
 namespace {
@@ -21,32 +23,45 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Writes the estimate rows: t, status counts so far, per body mass and COM, effect coefficients,
-// residual per joint of the last sample.
+// The estimate CSV sink: t, the counters so far, per body mass and COM, effect coefficients, the
+// residual per channel of the last sample.
 class EstimateCsv {
  public:
-  EstimateCsv(const std::string& path, const RobotDynamics& model) : file_(std::fopen(path.c_str(), "w"), &std::fclose), path_(path) {
+  EstimateCsv(const std::string& path, const SamplePipeline& pipeline)
+      : file_(std::fopen(path.c_str(), "w"), &std::fclose), path_(path) {
     if (!file_) throw std::runtime_error(CannotText("write", "", path));
     std::string header = "t,accepted,rejected";
-    for (const EstimatedBody& b : model.bodies()) header += "," + b.name + ".m," + b.name + ".cx," + b.name + ".cy," + b.name + ".cz";
-    const std::vector<std::string> names = model.FeatureNames();
-    for (int f = model.num_inertia_features(); f < model.num_features(); ++f) header += "," + names[f];
-    for (const std::string& j : model.dof_names()) header += ",residual_" + j;
+    auto body_columns = [&](const std::string& b) { header += "," + b + ".m," + b + ".cx," + b + ".cy," + b + ".cz"; };
+    if (const OnlineJointEstimator* e = pipeline.robot()) {
+      const RobotDynamics& model = e->model();
+      for (const EstimatedBody& b : model.bodies()) body_columns(b.name);
+      const std::vector<std::string> names = model.FeatureNames();
+      for (int f = model.num_inertia_features(); f < model.num_features(); ++f) header += "," + names[f];
+      for (const std::string& j : model.dof_names()) header += ",residual_" + j;
+    } else {
+      body_columns("body");
+      for (const char* c : {"mx", "my", "mz", "fx", "fy", "fz"}) header += std::string(",residual_") + c;
+    }
     std::fprintf(file_.get(), "%s\n", header.c_str());
   }
-  void Row(const OnlineJointEstimator& e, double t, const DaemonCounters& c) {
+  void Row(const SamplePipeline& pipeline, double t, const SampleCounters& c) {
     std::fprintf(file_.get(), "%.9g,%llu,%llu", t, static_cast<unsigned long long>(c.accepted),
                  static_cast<unsigned long long>(c.total_rejected()));
-    const RobotDynamics& model = e.model();
-    for (int b = 0; b < static_cast<int>(model.bodies().size()); ++b) {
-      const InertialParams body = e.Body(b);
-      const Vector3 com = body.mass() > 0 ? body.com() : Vector3::Zero();
-      std::fprintf(file_.get(), ",%.17g,%.17g,%.17g,%.17g", body.mass(), com.x(), com.y(), com.z());
+    auto body = [&](const InertialParams& b) {
+      const Vector3 com = b.mass() > 0 ? b.com() : Vector3::Zero();
+      std::fprintf(file_.get(), ",%.17g,%.17g,%.17g,%.17g", b.mass(), com.x(), com.y(), com.z());
+    };
+    if (const OnlineJointEstimator* e = pipeline.robot()) {
+      const RobotDynamics& model = e->model();
+      for (int b = 0; b < static_cast<int>(model.bodies().size()); ++b) body(e->Body(b));
+      for (int f = model.num_inertia_features(); f < model.num_features(); ++f) {
+        std::fprintf(file_.get(), ",%.17g", e->coefficients()[f]);
+      }
+    } else {
+      body(pipeline.body()->Body());
     }
-    for (int f = model.num_inertia_features(); f < model.num_features(); ++f) {
-      std::fprintf(file_.get(), ",%.17g", e.coefficients()[f]);
-    }
-    for (int k = 0; k < model.num_dofs(); ++k) std::fprintf(file_.get(), ",%.17g", e.residual()[k]);
+    const Eigen::VectorXd& r = pipeline.last_residual();
+    for (Eigen::Index k = 0; k < r.size(); ++k) std::fprintf(file_.get(), ",%.17g", r[k]);
     std::fprintf(file_.get(), "\n");
     if (std::ferror(file_.get())) throw std::runtime_error(CannotText("write", "", path_));
   }
@@ -56,78 +71,110 @@ class EstimateCsv {
   std::string path_;
 };
 
+// The replay loop: a source's samples through the pipeline, the sinks at every estimate period of
+// log time.
+class Replayer {
+ public:
+  Replayer(SamplePipeline* pipeline, const ReplayOptions& options,
+           const std::function<void(const Sample&, SamplePipeline::Outcome)>& on_sample)
+      : pipeline_(*pipeline), options_(options), on_sample_(on_sample), start_(std::chrono::steady_clock::now()) {
+    if (!options.csv_path.empty()) csv_ = std::make_unique<EstimateCsv>(options.csv_path, pipeline_);
+    if (!options.log_path.empty()) {
+      out_ = std::make_unique<lcm::LogFile>(options.log_path, "w");
+      if (!out_->good()) throw std::runtime_error(CannotText("write", "LCM log", options.log_path));
+    }
+  }
+
+  /// One decoded sample: the pipeline, then the sinks when an estimate period has passed.
+  void Feed(Sample* s, const SampleCounters& decoded) {
+    const double t = s->time(pipeline_.body_mode());
+    if (options_.realtime) {
+      if (!have_first_) {
+        first_t_ = t;
+        have_first_ = true;
+      }
+      std::this_thread::sleep_until(start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                 std::chrono::duration<double>(t - first_t_)));
+    }
+    ++samples_;
+    const SamplePipeline::Outcome outcome = pipeline_.Process(s);
+    if (on_sample_) on_sample_(*s, outcome);
+    if (next_row_ >= 0 && t < next_row_) return;
+    next_row_ = t + options_.estimate_period_s;
+    Emit(t, TotalCounters(decoded, pipeline_.counters()));
+  }
+
+  void Finish(ReplayResult* result, const SampleCounters& decoded) {
+    result->counters = TotalCounters(decoded, pipeline_.counters());
+    result->samples = samples_;
+    result->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    result->samples_per_second = result->seconds > 0 ? static_cast<double>(samples_) / result->seconds : 0.0;
+    result->estimate_rows = rows_;
+  }
+
+ private:
+  void Emit(double t, const SampleCounters& totals) {
+    if (csv_) csv_->Row(pipeline_, t, totals);
+    if (out_) {
+      const std::int64_t utime = static_cast<std::int64_t>(std::llround(t * 1e6));
+      std::vector<std::uint8_t> bytes = EncodeEstimate(pipeline_, utime, totals);
+      lcm::LogEvent ev;
+      ev.eventnum = eventnum_++;
+      ev.timestamp = utime;
+      ev.channel = options_.estimate_channel;
+      ev.datalen = static_cast<std::int32_t>(bytes.size());
+      ev.data = bytes.data();
+      if (out_->writeEvent(&ev) != 0) throw std::runtime_error(CannotText("write", "LCM log", options_.log_path));
+    }
+    ++rows_;
+  }
+
+  SamplePipeline& pipeline_;
+  const ReplayOptions& options_;
+  const std::function<void(const Sample&, SamplePipeline::Outcome)>& on_sample_;
+  std::unique_ptr<EstimateCsv> csv_;
+  std::unique_ptr<lcm::LogFile> out_;
+  std::chrono::steady_clock::time_point start_;
+  double first_t_ = 0.0, next_row_ = -1.0;
+  bool have_first_ = false;
+  std::int64_t eventnum_ = 0;
+  std::uint64_t samples_ = 0, rows_ = 0;
+};
+
+// The messages of options.channel in an LCM log through `decoder` and the replayer.
+void ReplayLcmLog(const std::string& path, SampleDecoder* decoder, Replayer* replayer, Sample* sample,
+                  const ReplayOptions& options, ReplayResult* result) {
+  CheckLcmChannelName(options.channel, "--channel");
+  if (!options.estimate_channel.empty()) CheckLcmChannelName(options.estimate_channel, "--estimate-channel");
+  CheckLcmLog(path);  // every event header against the bytes left, before liblcm trusts them
+  lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(CannotText("read", "LCM log", path));
+  for (const lcm::LogEvent* ev = log.readNextEvent(); ev != nullptr; ev = log.readNextEvent()) {
+    ++result->events;
+    ++result->channels[ev->channel];
+    if (ev->channel != options.channel) continue;
+    if (decoder->DecodeMessage(ev->data, static_cast<std::size_t>(ev->datalen), ev->timestamp, sample)) {
+      replayer->Feed(sample, decoder->counters());
+    }
+  }
+  if (result->events == 0) throw std::runtime_error("'" + path + "' holds no LCM events (not an lcm-logger log?)");
+}
+
 }  // namespace
 
 ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator, const ReplayOptions& options,
-                       const std::function<void(const JointSample&, UpdateStatus)>& on_sample) {
+                       const std::function<void(const Sample&, SamplePipeline::Outcome)>& on_sample) {
   ReplayResult result;
   const RobotDynamics& model = estimator->model();
-  std::unique_ptr<EstimateCsv> csv;
-  if (!options.csv_path.empty()) csv = std::make_unique<EstimateCsv>(options.csv_path, model);
-  std::unique_ptr<lcm::LogFile> out;
-  if (!options.log_path.empty()) {
-    out = std::make_unique<lcm::LogFile>(options.log_path, "w");
-    if (!out->good()) throw std::runtime_error(CannotText("write", "LCM log", options.log_path));
-  }
-  Eigen::VectorXd window_sum = Eigen::VectorXd::Zero(model.num_dofs());
-  int window_count = 0;
-  double next_row = -1.0;
-  std::int64_t eventnum = 0;
-  auto emit = [&](double t) {
-    if (next_row >= 0 && t < next_row) return;
-    next_row = t + options.estimate_period_s;
-    if (csv) csv->Row(*estimator, t, result.counters);
-    if (out) {
-      const Eigen::VectorXd rms = window_count > 0 ? Eigen::VectorXd((window_sum / window_count).cwiseSqrt())
-                                                   : Eigen::VectorXd::Zero(model.num_dofs());
-      std::vector<std::uint8_t> bytes =
-          EncodeEstimate(*estimator, static_cast<std::int64_t>(std::llround(t * 1e6)), rms, options.estimate_period_s,
-                         result.counters);
-      lcm::LogEvent ev;
-      ev.eventnum = eventnum++;
-      ev.timestamp = static_cast<std::int64_t>(std::llround(t * 1e6));
-      ev.channel = options.estimate_channel;
-      ev.datalen = static_cast<std::int32_t>(bytes.size());
-      ev.data = bytes.data();
-      if (out->writeEvent(&ev) != 0) throw std::runtime_error(CannotText("write", "LCM log", options.log_path));
-    }
-    window_sum.setZero();
-    window_count = 0;
-    ++result.estimate_rows;
-  };
-  const auto start = std::chrono::steady_clock::now();
-  double first_t = 0.0;
-  bool have_first = false;
-  auto feed = [&](const JointSample& s) {
-    if (options.realtime) {
-      if (!have_first) {
-        first_t = s.t;
-        have_first = true;
-      }
-      const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                   std::chrono::duration<double>(s.t - first_t));
-      std::this_thread::sleep_until(due);
-    }
-    const UpdateStatus status = estimator->Update(s);
-    if (status == UpdateStatus::kAccepted) {
-      ++result.counters.accepted;
-      window_sum += estimator->residual().cwiseAbs2();
-      ++window_count;
-    } else if (IsRejection(status)) {
-      ++result.counters.rejected[std::string(ToString(status))];
-    }
-    if (on_sample) on_sample(s, status);
-    emit(s.t);
-  };
-
-  std::uint64_t samples = 0;
+  Sample sample = Sample::ForJoints(model.num_dofs());
   if (options.can) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error(CannotText("read", "candump log", path));
-    CanJointAssembler assembler(*options.can, model.dof_names());
+    SampleDecoder decoder = SampleDecoder::CanFrames(*options.can, model.dof_names());
+    SamplePipeline pipeline(estimator, decoder.accel_cutoff_hz(), options.residual_window_s);
+    Replayer replayer(&pipeline, options, on_sample);
     std::string line, iface;
     CanFrame frame;
-    JointSample s;
     while (std::getline(in, line)) {
       ++result.events;
       try {
@@ -136,57 +183,45 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
           continue;
         }
       } catch (const std::invalid_argument&) {
-        ++result.counters.rejected["bad_line"];
+        decoder.CountBadLine();
         continue;
       }
-      ++result.counters.received;
-      if (assembler.Feed(frame, &s)) {
-        ++samples;
-        feed(s);
-      }
+      if (decoder.DecodeFrame(frame, &sample)) replayer.Feed(&sample, decoder.counters());
     }
-    result.can = assembler.counters();
-    // Frames that gave no sample, by reason, as inertiald counts them.
-    for (const auto& [reason, count] : {std::pair<const char*, std::uint64_t>{"unknown_id", result.can.unknown_id},
-                                        {"malformed", result.can.malformed}, {"error_frame", result.can.error_frames},
-                                        {"late", result.can.late}, {"superseded", result.can.superseded}}) {
-      if (count > 0) result.counters.rejected[reason] += count;
-    }
+    replayer.Finish(&result, decoder.counters());
   } else if (EndsWith(path, ".csv")) {
-    const JointSamples log = ReadJointCsv(path, model.dof_names(), options.csv);
-    JointSample s;
+    // A file's samples are decoded already; the CSV source counts each row as received and given.
+    const JointSamples log = ReadJointLog(path, model.dof_names(), options.csv);
+    SamplePipeline pipeline(estimator, options.format.accel_cutoff_hz, options.residual_window_s);
+    Replayer replayer(&pipeline, options, on_sample);
+    SampleCounters rows;
     for (int i = 0; i < log.size(); ++i) {
-      CopySample(log, i, &s);
+      CopySample(log, i, &sample.joint);
       ++result.events;
-      ++result.counters.received;
-      ++samples;
-      feed(s);
+      ++rows.received;
+      ++rows.accepted;
+      replayer.Feed(&sample, rows);
     }
+    replayer.Finish(&result, rows);
   } else {
-    CheckLcmChannelName(options.channel, "--channel");
-    if (!options.estimate_channel.empty()) CheckLcmChannelName(options.estimate_channel, "--estimate-channel");
-    CheckLcmLog(path);  // every event header against the bytes left, before liblcm trusts them
-    lcm::LogFile log(path, "r");
-    if (!log.good()) throw std::runtime_error(CannotText("read", "LCM log", path));
-    JointMessageDecoder decoder(options.format, model.dof_names());
-    JointSample s;
-    for (const lcm::LogEvent* ev = log.readNextEvent(); ev != nullptr; ev = log.readNextEvent()) {
-      ++result.events;
-      ++result.channels[ev->channel];
-      if (ev->channel != options.channel) continue;
-      ++result.counters.received;
-      const MessageRejection r = decoder.Decode(ev->data, static_cast<std::size_t>(ev->datalen), ev->timestamp, &s);
-      if (r != MessageRejection::kNone) {
-        ++result.counters.rejected[ToString(r)];
-        continue;
-      }
-      ++samples;
-      feed(s);
-    }
-    if (result.events == 0) throw std::runtime_error("'" + path + "' holds no LCM events (not an lcm-logger log?)");
+    SampleDecoder decoder = SampleDecoder::JointMessages(options.format, model.dof_names());
+    SamplePipeline pipeline(estimator, decoder.accel_cutoff_hz(), options.residual_window_s);
+    Replayer replayer(&pipeline, options, on_sample);
+    ReplayLcmLog(path, &decoder, &replayer, &sample, options, &result);
+    replayer.Finish(&result, decoder.counters());
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.samples_per_second = result.seconds > 0 ? static_cast<double>(samples) / result.seconds : 0.0;
+  return result;
+}
+
+ReplayResult ReplayBodyLog(const std::string& path, OnlineBodyEstimator* estimator, const ReplayOptions& options,
+                           const std::function<void(const Sample&, SamplePipeline::Outcome)>& on_sample) {
+  ReplayResult result;
+  Sample sample;
+  SampleDecoder decoder = SampleDecoder::BodyWrenches();
+  SamplePipeline pipeline(estimator, options.residual_window_s);
+  Replayer replayer(&pipeline, options, on_sample);
+  ReplayLcmLog(path, &decoder, &replayer, &sample, options, &result);
+  replayer.Finish(&result, decoder.counters());
   return result;
 }
 

@@ -26,17 +26,17 @@ const LcmLayout& BodyWrenchLayout() {
   return layout;
 }
 
-MessageRejection DecodeBodyWrench(const void* data, std::size_t size, BodySample* s, std::string* why) {
+Rejection DecodeBodyWrench(const void* data, std::size_t size, BodySample* s, std::string* why) {
   LcmRecord r;
   try {
     r = DecodeLcm(BodyWrenchLayout(), data, size);
   } catch (const LcmDecodeError& e) {
     if (why) *why = e.what();
-    return MessageRejection::kDecode;
+    return Rejection::kDecode;
   }
   if (r.numbers["has_twist"][0] == 0.0) {
     if (why) *why = "no twist (has_twist false)";
-    return MessageRejection::kWrongSize;
+    return Rejection::kWrongSize;
   }
   s->t = r.numbers["utime"][0] * 1e-6;
   for (int i = 0; i < 6; ++i) {
@@ -49,9 +49,9 @@ MessageRejection DecodeBodyWrench(const void* data, std::size_t size, BodySample
   if (!std::isfinite(s->t) || !s->twist.allFinite() || !s->wrench.allFinite() || !s->gravity.allFinite() ||
       (s->has_acceleration && !s->acceleration.allFinite())) {
     if (why) *why = "a value is not finite";
-    return MessageRejection::kNonFinite;
+    return Rejection::kNonFinite;
   }
-  return MessageRejection::kNone;
+  return Rejection::kNone;
 }
 
 std::vector<std::uint8_t> EncodeBodyWrench(const BodySample& s, const std::string& frame) {

@@ -10,8 +10,7 @@ namespace inertial {
 CanJointAssembler::CanJointAssembler(CanConfig config, std::vector<std::string> dof_names)
     : config_(std::move(config)),
       dofs_(std::move(dof_names)),
-      readings_(dofs_.size()),
-      acceleration_(static_cast<int>(dofs_.size()), config_.accel_cutoff_hz) {
+      readings_(dofs_.size()) {
   for (const MotorConfig& m : config_.motors) {
     const auto it = std::find(dofs_.begin(), dofs_.end(), m.joint);
     dof_of_motor_.push_back(it == dofs_.end() ? -1 : static_cast<int>(it - dofs_.begin()));
@@ -42,31 +41,36 @@ int CanJointAssembler::MotorOf(const CanFrame& f) const {
 }
 
 bool CanJointAssembler::Feed(const CanFrame& f, JointSample* s, std::string* why) {
-  ++counters_.frames;
+  ++counters_.received;
+  last_rejection_ = Rejection::kNone;
+  auto reject = [&](Rejection r) {
+    counters_.Reject(r);
+    last_rejection_ = r;
+  };
   if (f.error) {
-    ++counters_.error_frames;
+    reject(Rejection::kErrorFrame);
     if (why) *why = "an error frame";
     return false;
   }
   const int motor = MotorOf(f);
   if (motor < 0 || dof_of_motor_[motor] < 0) {
-    ++counters_.unknown_id;
+    reject(Rejection::kUnknownId);
     if (why) *why = "no motor of the model replies with this frame";
     return false;
   }
   MotorReading r;
-  if (DecodeMotorFrame(config_.motors[motor], f, &r, why) != FrameRejection::kNone) {
-    ++counters_.malformed;
+  if (DecodeMotorFrame(config_.motors[motor], f, &r, why) != Rejection::kNone) {
+    reject(Rejection::kMalformed);
     return false;
   }
   const int k = dof_of_motor_[motor];
-  if (readings_[k]) ++counters_.superseded;
+  if (readings_[k]) counters_.Reject(Rejection::kSuperseded);
   readings_[k] = r;
   bool complete = true;
   for (auto& reading : readings_) {
     if (reading && reading->t < r.t - config_.window) {
       reading.reset();
-      ++counters_.late;
+      counters_.Reject(Rejection::kLate);
     }
     complete = complete && reading.has_value();
   }
@@ -83,16 +87,16 @@ bool CanJointAssembler::Feed(const CanFrame& f, JointSample* s, std::string* why
     s->tau[j] = readings_[j]->tau;
     readings_[j].reset();
   }
-  if (acceleration_.primed() && !(s->t > acceleration_.last_time())) {
+  if (ticked_ && !(s->t > last_tick_t_)) {
     if (why) *why = "a tick not after the previous one";
-    ++counters_.late;
+    reject(Rejection::kLate);
     return false;
   }
-  if (!acceleration_.Update(s->t, s->qd, &s->qdd)) {
-    ++counters_.priming;
-    return false;
-  }
-  ++counters_.ticks;
+  ticked_ = true;
+  last_tick_t_ = s->t;
+  s->qdd.setZero();
+  s->has_qdd = false;
+  ++counters_.accepted;
   return true;
 }
 

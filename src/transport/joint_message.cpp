@@ -39,23 +39,9 @@ const LcmLayout& JointStateLayout() {
   return layout;
 }
 
-const char* ToString(MessageRejection r) {
-  switch (r) {
-    case MessageRejection::kNone: return "ok";
-    case MessageRejection::kDecode: return "decode";
-    case MessageRejection::kWrongSize: return "wrong_size";
-    case MessageRejection::kUnknownJoint: return "unknown_joint";
-    case MessageRejection::kNonFinite: return "non_finite";
-    case MessageRejection::kOutOfOrder: return "out_of_order";
-    case MessageRejection::kPriming: return "priming";
-  }
-  return "?";
-}
-
 JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<std::string> dof_names)
     : format_(std::move(format)),
-      dofs_(std::move(dof_names)),
-      acceleration_(static_cast<int>(dofs_.size()), format_.accel_cutoff_hz) {
+      dofs_(std::move(dof_names)) {
   CheckLcmLayout(format_.layout);
   for (const std::string* name : {&format_.q, &format_.qd, &format_.tau}) {
     if (name->empty() || !HasField(format_.layout, *name, false)) {
@@ -86,15 +72,15 @@ JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<
   }
 }
 
-MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size, std::int64_t recv_utime,
-                                             JointSample* s, std::string* why) {
+Rejection JointMessageDecoder::Decode(const void* data, std::size_t size, std::int64_t recv_utime, JointSample* s,
+                                      std::string* why) {
   const int n = num_dofs();
   LcmRecord r;
   try {
     r = DecodeLcm(format_.layout, data, size);
   } catch (const LcmDecodeError& e) {
     if (why) *why = e.what();
-    return MessageRejection::kDecode;
+    return Rejection::kDecode;
   }
   const std::vector<std::string>& names = format_.names_field.empty() ? format_.joint_names : r.strings[format_.names_field];
   const std::vector<double>& q = r.numbers[format_.q];
@@ -109,7 +95,7 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
              std::to_string(q.size()) + ", " + std::to_string(qd.size()) + ", " + std::to_string(tau.size()) +
              (has_qdd ? ", " + std::to_string(qdd->size()) : "") + " values";
     }
-    return MessageRejection::kWrongSize;
+    return Rejection::kWrongSize;
   }
   s->q.resize(n);
   s->qd.resize(n);
@@ -121,14 +107,14 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
     if (it == dofs_.end()) {
       if (!format_.names_field.empty()) {
         if (why) *why = "joint '" + names[i] + "' is not in the model";
-        return MessageRejection::kUnknownJoint;
+        return Rejection::kUnknownJoint;
       }
       continue;  // a fixed list may hold joints the model does not use
     }
     const int k = static_cast<int>(it - dofs_.begin());
     if (filled[k]) {
       if (why) *why = "joint '" + names[i] + "' appears twice";
-      return MessageRejection::kWrongSize;
+      return Rejection::kWrongSize;
     }
     filled[k] = true;
     s->q[k] = q[i];
@@ -139,7 +125,7 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
   for (int k = 0; k < n; ++k) {
     if (!filled[k]) {
       if (why) *why = "the model's joint '" + dofs_[k] + "' is missing";
-      return MessageRejection::kWrongSize;
+      return Rejection::kWrongSize;
     }
   }
   const double utime = format_.utime_field.empty() ? static_cast<double>(recv_utime) : r.numbers[format_.utime_field][0];
@@ -147,28 +133,11 @@ MessageRejection JointMessageDecoder::Decode(const void* data, std::size_t size,
   if (!std::isfinite(s->t) || !s->q.allFinite() || !s->qd.allFinite() || !s->tau.allFinite() ||
       (has_qdd && !s->qdd.allFinite())) {
     if (why) *why = "a value is not finite";
-    return MessageRejection::kNonFinite;
+    return Rejection::kNonFinite;
   }
-  if (primed_ && !(s->t > last_t_)) {
-    if (why) *why = "time " + std::to_string(s->t) + " s does not follow " + std::to_string(last_t_) + " s";
-    return MessageRejection::kOutOfOrder;
-  }
-  if (!has_qdd && !acceleration_.Update(s->t, s->qd, &s->qdd)) {
-    primed_ = true;
-    last_t_ = s->t;
-    if (why) *why = "the first sample primes the acceleration filter";
-    return MessageRejection::kPriming;
-  }
-  primed_ = true;
-  last_t_ = s->t;
-  if (!has_qdd && !s->qdd.allFinite()) {
-    // qd changed too much in too little time for its difference quotient (found by the message
-    // fuzz harness): the sample is refused and the filter starts again at the next message.
-    acceleration_ = CausalAcceleration(static_cast<int>(dofs_.size()), format_.accel_cutoff_hz);
-    if (why) *why = "the acceleration derived from qd is not finite";
-    return MessageRejection::kNonFinite;
-  }
-  return MessageRejection::kNone;
+  s->has_qdd = has_qdd;
+  if (!has_qdd) s->qdd.setZero();
+  return Rejection::kNone;
 }
 
 std::vector<std::uint8_t> EncodeJointState(const std::vector<std::string>& names, const JointSample& s, bool with_qdd) {

@@ -60,10 +60,10 @@ int Needed(const MotorConfig& m) {
 
 }  // namespace
 
-FrameRejection DecodeMotorFrame(const MotorConfig& m, const CanFrame& f, MotorReading* r, std::string* why) {
+Rejection DecodeMotorFrame(const MotorConfig& m, const CanFrame& f, MotorReading* r, std::string* why) {
   auto bad = [&](const std::string& reason) {
     if (why) *why = "motor " + m.joint + " (id 0x" + [&] { std::ostringstream o; o << std::hex << m.can_id; return o.str(); }() + "): " + reason;
-    return FrameRejection::kMalformed;
+    return Rejection::kMalformed;
   };
   if (f.remote || f.error || f.fd) return bad("a remote, error or FD frame where a reply was expected");
   if (f.length < Needed(m)) {
@@ -89,7 +89,7 @@ FrameRejection DecodeMotorFrame(const MotorConfig& m, const CanFrame& f, MotorRe
   r->qd = m.direction * v / m.gear;
   r->tau = m.direction * t * m.kt * m.gear;
   if (!std::isfinite(r->q) || !std::isfinite(r->qd) || !std::isfinite(r->tau)) return bad("a value is not finite");
-  return FrameRejection::kNone;
+  return Rejection::kNone;
 }
 
 CanFrame EncodeMotorFrame(const MotorConfig& m, const MotorReading& r) {

@@ -4,6 +4,9 @@
 // missing motors never filled in), through to the estimator.
 #include <gtest/gtest.h>
 
+#include "inertial/estimation/causal_acceleration.hpp"
+#include "inertial/estimation/stream_preprocessor.hpp"
+
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -249,13 +252,13 @@ TEST(MotorCodec, MiniCheetahFramesWorkedByHand) {
   const std::uint8_t middle[6] = {0x01, 0x80, 0x00, 0x80, 0x08, 0x00};  // p 0x8000, v 0x800, t 0x800
   std::copy(middle, middle + 6, f.data.begin());
   MotorReading r;
-  ASSERT_EQ(DecodeMotorFrame(m, f, &r), FrameRejection::kNone);
+  ASSERT_EQ(DecodeMotorFrame(m, f, &r), Rejection::kNone);
   EXPECT_DOUBLE_EQ(r.q, -12.5 + 32768.0 * 25.0 / 65535.0);  // 1.907e-4 rad
   EXPECT_DOUBLE_EQ(r.qd, -65.0 + 2048.0 * 130.0 / 4095.0);  // 0.01587 rad/s
   EXPECT_DOUBLE_EQ(r.tau, -18.0 + 2048.0 * 36.0 / 4095.0);  // 0.004396 N m
   const std::uint8_t ends[6] = {0x01, 0x00, 0x00, 0xFF, 0xF0, 0x00};  // p 0 (min), v 0xFFF (max), t 0 (min)
   std::copy(ends, ends + 6, f.data.begin());
-  ASSERT_EQ(DecodeMotorFrame(m, f, &r), FrameRejection::kNone);
+  ASSERT_EQ(DecodeMotorFrame(m, f, &r), Rejection::kNone);
   EXPECT_DOUBLE_EQ(r.q, -12.5);
   EXPECT_DOUBLE_EQ(r.qd, 65.0);
   EXPECT_DOUBLE_EQ(r.tau, -18.0);
@@ -273,14 +276,14 @@ TEST(MotorCodec, MiniCheetahFramesWorkedByHand) {
   geared.gear = 6;
   geared.kt = 0.1;
   std::copy(middle, middle + 6, f.data.begin());
-  ASSERT_EQ(DecodeMotorFrame(geared, f, &r), FrameRejection::kNone);
+  ASSERT_EQ(DecodeMotorFrame(geared, f, &r), Rejection::kNone);
   EXPECT_DOUBLE_EQ(r.q, -(-12.5 + 32768.0 * 25.0 / 65535.0) / 6.0);
   EXPECT_DOUBLE_EQ(r.tau, -(-18.0 + 2048.0 * 36.0 / 4095.0) * 0.1 * 6.0);
   // Round trips within half a quantization step.
   testing::Rng rng(3);
   for (int i = 0; i < 1000; ++i) {
     const MotorReading in{0.0, rng.Uniform(-2, 2), rng.Uniform(-10, 10), rng.Uniform(-3, 3)};
-    ASSERT_EQ(DecodeMotorFrame(geared, EncodeMotorFrame(geared, in), &r), FrameRejection::kNone);
+    ASSERT_EQ(DecodeMotorFrame(geared, EncodeMotorFrame(geared, in), &r), Rejection::kNone);
     EXPECT_NEAR(r.q, in.q, 0.5 * 25.0 / 65535.0 / 6.0 + 1e-12);
     EXPECT_NEAR(r.qd, in.qd, 0.5 * 130.0 / 4095.0 / 6.0 + 1e-12);
     EXPECT_NEAR(r.tau, in.tau, 0.5 * 36.0 / 4095.0 * 0.6 + 1e-12);
@@ -288,14 +291,14 @@ TEST(MotorCodec, MiniCheetahFramesWorkedByHand) {
   // Malformed: short, wrong motor id in byte 0, remote.
   f.length = 5;
   std::string why;
-  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), FrameRejection::kMalformed);
+  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), Rejection::kMalformed);
   f.length = 6;
   f.data[0] = 7;
-  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), FrameRejection::kMalformed);
+  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), Rejection::kMalformed);
   EXPECT_NE(why.find("byte 0"), std::string::npos) << why;
   f.data[0] = 1;
   f.remote = true;
-  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), FrameRejection::kMalformed);
+  EXPECT_EQ(DecodeMotorFrame(m, f, &r, &why), Rejection::kMalformed);
 }
 
 TEST(MotorCodec, LinearFieldsWorkedByHand) {
@@ -312,7 +315,7 @@ TEST(MotorCodec, LinearFieldsWorkedByHand) {
   const std::uint8_t bytes[8] = {0x18, 0xFC, 0x01, 0xF4, 0xFF, 0xFF, 0x3C, 0xB0};
   std::copy(bytes, bytes + 8, f.data.begin());
   MotorReading r;
-  ASSERT_EQ(DecodeMotorFrame(m, f, &r), FrameRejection::kNone);
+  ASSERT_EQ(DecodeMotorFrame(m, f, &r), Rejection::kNone);
   EXPECT_DOUBLE_EQ(r.q, -1.0);                 // 0xFC18 = -1000 mrad
   EXPECT_DOUBLE_EQ(r.qd, 500 * 0.01 - 5.0);    // 0x01F4 = 500
   EXPECT_NEAR(r.tau, -50000 * 1e-4, 1e-12);    // 0xFFFF3CB0 = -50000
@@ -364,9 +367,12 @@ TEST(CanJointAssembler, TicksLateSupersededAndMissing) {
   auto frame = [&](int motor, double t, double q) {
     return EncodeMotorFrame(a.config().motors[static_cast<size_t>(motor)], MotorReading{t, q, 0.1 * q, 0.2 * q});
   };
-  // Tick 0 primes the acceleration filter, tick 1 is a sample.
-  for (int k = 0; k < 3; ++k) EXPECT_FALSE(a.Feed(frame(k, 0.0001 * k, 0.1), &s));
-  EXPECT_EQ(a.counters().priming, 1u);
+  // Tick 0 is a sample at once: the assembler only assembles (qdd is the preprocessing stage's).
+  EXPECT_FALSE(a.Feed(frame(0, 0.0, 0.1), &s));
+  EXPECT_FALSE(a.Feed(frame(1, 0.0001, 0.1), &s));
+  ASSERT_TRUE(a.Feed(frame(2, 0.0002, 0.1), &s));
+  EXPECT_FALSE(s.has_qdd);
+  EXPECT_EQ(s.qdd, Eigen::VectorXd::Zero(3));
   EXPECT_FALSE(a.Feed(frame(0, 0.002, 0.2), &s));
   EXPECT_FALSE(a.Feed(frame(1, 0.0021, 0.2), &s));
   ASSERT_TRUE(a.Feed(frame(2, 0.0022, 0.2), &s));
@@ -376,12 +382,12 @@ TEST(CanJointAssembler, TicksLateSupersededAndMissing) {
   EXPECT_FALSE(a.Feed(frame(0, 0.004, 0.3), &s));
   EXPECT_FALSE(a.Feed(frame(1, 0.0041, 0.3), &s));
   EXPECT_FALSE(a.Feed(frame(0, 0.006, 0.3), &s));  // abad again: its older reading is superseded
-  EXPECT_EQ(a.counters().superseded, 1u);
-  EXPECT_EQ(a.counters().late, 0u);                  // hip's 4.1 ms is within 2 ms of 6 ms
+  EXPECT_EQ(a.counters()[Rejection::kSuperseded], 1u);
+  EXPECT_EQ(a.counters()[Rejection::kLate], 0u);                  // hip's 4.1 ms is within 2 ms of 6 ms
   EXPECT_FALSE(a.Feed(frame(1, 0.0101, 0.3), &s));  // hip again (superseded); abad's 6 ms ages out
-  EXPECT_EQ(a.counters().superseded, 2u);
-  EXPECT_EQ(a.counters().late, 1u);
-  EXPECT_EQ(a.counters().ticks, 1u);
+  EXPECT_EQ(a.counters()[Rejection::kSuperseded], 2u);
+  EXPECT_EQ(a.counters()[Rejection::kLate], 1u);
+  EXPECT_EQ(a.counters().accepted, 2u);
   // Unknown identifiers, error frames and malformed frames are counted and ignored.
   CanFrame unknown = frame(0, 0.011, 0.3);
   unknown.id = 0x55;
@@ -392,9 +398,10 @@ TEST(CanJointAssembler, TicksLateSupersededAndMissing) {
   CanFrame shortf = frame(2, 0.011, 0.3);
   shortf.length = 3;
   EXPECT_FALSE(a.Feed(shortf, &s));
-  EXPECT_EQ(a.counters().unknown_id, 1u);
-  EXPECT_EQ(a.counters().error_frames, 1u);
-  EXPECT_EQ(a.counters().malformed, 1u);
+  EXPECT_EQ(a.counters()[Rejection::kUnknownId], 1u);
+  EXPECT_EQ(a.counters()[Rejection::kErrorFrame], 1u);
+  EXPECT_EQ(a.counters()[Rejection::kMalformed], 1u);
+  EXPECT_EQ(a.last_rejection(), Rejection::kMalformed);
   EXPECT_THROW(CanJointAssembler(LegConfig(), {"abad", "hip", "knee", "ankle"}), std::invalid_argument);
 }
 
@@ -410,11 +417,15 @@ TEST(CanJointAssembler, SimulatedLegThroughTheMotorsIntoTheEstimator) {
   o.measurement_sigma = 0.1;
   OnlineJointEstimator via_can(model, Eigen::VectorXd::Zero(model.num_parameters()), o), exact(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   JointSample s, e;
+  StreamPreprocessor preprocess(3, a.config().accel_cutoff_hz);
   CausalAcceleration reference_acceleration(3, a.config().accel_cutoff_hz);
   for (int i = 0; i < log.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
       MotorReading r{log.t[i] + 1e-4 * k, log.q(i, k), log.qd(i, k), log.tau(i, k)};
-      if (a.Feed(EncodeMotorFrame(a.config().motors[static_cast<size_t>(k)], r), &s)) via_can.Update(s);
+      if (a.Feed(EncodeMotorFrame(a.config().motors[static_cast<size_t>(k)], r), &s) &&
+          preprocess.Process(&s) == Rejection::kNone) {
+        via_can.Update(s);
+      }
     }
     if (i % 100 == 0) {
       CanFrame junk;
@@ -427,8 +438,8 @@ TEST(CanJointAssembler, SimulatedLegThroughTheMotorsIntoTheEstimator) {
     CopySample(log, i, &e);
     if (reference_acceleration.Update(e.t + 2e-4, e.qd, &e.qdd)) exact.Update(e);
   }
-  EXPECT_EQ(a.counters().ticks, static_cast<std::uint64_t>(log.size() - 1));
-  EXPECT_EQ(a.counters().unknown_id, static_cast<std::uint64_t>((log.size() + 99) / 100));
+  EXPECT_EQ(a.counters().accepted, static_cast<std::uint64_t>(log.size()));
+  EXPECT_EQ(a.counters()[Rejection::kUnknownId], static_cast<std::uint64_t>((log.size() + 99) / 100));
   const testing::SimulatedLogs test = testing::SimulateLogs(model, testing::TrueParameters(model, {0.0}, 2), 0.0, 5.0, 4, 500);
   const double e_can = CompareTorques(PredictJointTorques(model, via_can.estimator().parameters(), test.test_clean), test.test_clean.tau).total_rms;
   const double e_exact = CompareTorques(PredictJointTorques(model, exact.estimator().parameters(), test.test_clean), test.test_clean.tau).total_rms;
@@ -463,7 +474,7 @@ TEST(MotorCodec, SurvivesAMillionRandomFrames) {
     if (i % 5 == 0) f.data[0] = static_cast<std::uint8_t>(f.id & 0xFF);
     f.t = i * 1e-4;
     for (const MotorConfig& m : config.motors) {
-      if (DecodeMotorFrame(m, f, &r) == FrameRejection::kNone) {
+      if (DecodeMotorFrame(m, f, &r) == Rejection::kNone) {
         ++decoded;
         ASSERT_TRUE(std::isfinite(r.q) && std::isfinite(r.qd) && std::isfinite(r.tau));
         if (m.protocol == MotorProtocol::kMiniCheetah) {

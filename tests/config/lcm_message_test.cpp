@@ -4,6 +4,8 @@
 // 10^5 random corruptions.
 #include <gtest/gtest.h>
 
+#include "inertial/estimation/stream_preprocessor.hpp"
+
 #include <cstdio>
 #include <fstream>
 #include <regex>
@@ -106,7 +108,7 @@ TEST(JointMessage, RoundTripThroughTheGeneratedEncoder) {
   JointMessageDecoder decoder(JointMessageFormat{}, kDofs);
   JointSample out;
   std::string why;
-  ASSERT_EQ(decoder.Decode(bytes.data(), bytes.size(), 0, &out, &why), MessageRejection::kNone) << why;
+  ASSERT_EQ(decoder.Decode(bytes.data(), bytes.size(), 0, &out, &why), Rejection::kNone) << why;
   EXPECT_NEAR(out.t, 12.345678, 1e-9);
   EXPECT_EQ(out.q, s.q);
   EXPECT_EQ(out.qd, s.qd);
@@ -147,8 +149,15 @@ TEST(JointMessage, AForeignLayoutFromAConfigFile) {
   };
   JointSample s;
   std::vector<std::uint8_t> m0 = message(0.0), m1 = message(1.0);
-  EXPECT_EQ(decoder.Decode(m0.data(), m0.size(), 1000000, &s), MessageRejection::kPriming);
-  ASSERT_EQ(decoder.Decode(m1.data(), m1.size(), 1010000, &s), MessageRejection::kNone);
+  // The decoder only decodes (has_qdd false); the preprocessing stage derives qdd, the first
+  // sample priming its filter.
+  StreamPreprocessor preprocess(static_cast<int>(kDofs.size()), format.accel_cutoff_hz);
+  ASSERT_EQ(decoder.Decode(m0.data(), m0.size(), 1000000, &s), Rejection::kNone);
+  EXPECT_FALSE(s.has_qdd);
+  EXPECT_EQ(preprocess.Process(&s), Rejection::kPriming);
+  ASSERT_EQ(decoder.Decode(m1.data(), m1.size(), 1010000, &s), Rejection::kNone);
+  ASSERT_EQ(preprocess.Process(&s), Rejection::kNone);
+  EXPECT_TRUE(s.has_qdd);
   EXPECT_DOUBLE_EQ(s.t, 1.01);
   EXPECT_FLOAT_EQ(static_cast<float>(s.q[1]), 0.01f);          // q block, joint 1
   EXPECT_FLOAT_EQ(static_cast<float>(s.tau[2]), 4.02f);        // tau_est block, joint 2
@@ -168,41 +177,41 @@ TEST(JointMessage, RefusesWhatItCannotTrust) {
     JointMessageDecoder d(JointMessageFormat{}, kDofs);
     for (size_t cut = 0; cut < good.size(); ++cut) {
       const std::vector<std::uint8_t> truncated(good.begin(), good.begin() + static_cast<long>(cut));
-      EXPECT_EQ(decode(truncated, d), MessageRejection::kDecode) << cut;
+      EXPECT_EQ(decode(truncated, d), Rejection::kDecode) << cut;
     }
     std::vector<std::uint8_t> longer = good;
     longer.push_back(0);
-    EXPECT_EQ(decode(longer, d), MessageRejection::kDecode);
+    EXPECT_EQ(decode(longer, d), Rejection::kDecode);
     EXPECT_NE(why.find("left over"), std::string::npos) << why;
     std::vector<std::uint8_t> hash = good;
     hash[3] ^= 0x10;
-    EXPECT_EQ(decode(hash, d), MessageRejection::kDecode);
+    EXPECT_EQ(decode(hash, d), Rejection::kDecode);
     EXPECT_NE(why.find("fingerprint"), std::string::npos) << why;
     for (std::int32_t n : {-1, 1 << 30, 5000}) {
       std::vector<std::uint8_t> absurd = good;
       for (int i = 0; i < 4; ++i) absurd[16 + i] = static_cast<std::uint8_t>(static_cast<std::uint32_t>(n) >> (8 * (3 - i)));
-      EXPECT_EQ(decode(absurd, d), MessageRejection::kDecode) << n;
+      EXPECT_EQ(decode(absurd, d), Rejection::kDecode) << n;
       EXPECT_NE(why.find("outside"), std::string::npos) << why;
     }
   }
   JointSample bad = Sample(2.0, 3, rng);
   {
     JointMessageDecoder d(JointMessageFormat{}, kDofs);
-    EXPECT_EQ(decode(EncodeJointState({"abad", "hip", "ankle"}, bad), d), MessageRejection::kUnknownJoint);
+    EXPECT_EQ(decode(EncodeJointState({"abad", "hip", "ankle"}, bad), d), Rejection::kUnknownJoint);
     EXPECT_NE(why.find("ankle"), std::string::npos);
     JointSample two = bad;
     two.q.conservativeResize(2);
     two.qd.conservativeResize(2);
     two.qdd.conservativeResize(2);
     two.tau.conservativeResize(2);
-    EXPECT_EQ(decode(EncodeJointState({"abad", "hip"}, two), d), MessageRejection::kWrongSize);
+    EXPECT_EQ(decode(EncodeJointState({"abad", "hip"}, two), d), Rejection::kWrongSize);
     EXPECT_NE(why.find("knee"), std::string::npos) << why;
     bad.tau[1] = std::nan("");
-    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), MessageRejection::kNonFinite);
+    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), Rejection::kNonFinite);
     bad.tau[1] = 0.0;
-    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), MessageRejection::kNone);
-    bad.t = 1.5;
-    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), MessageRejection::kOutOfOrder);
+    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), Rejection::kNone);
+    bad.t = 1.5;  // time order is the preprocessing stage's (stream_preprocessor_test.cpp)
+    EXPECT_EQ(decode(EncodeJointState(kDofs, bad), d), Rejection::kNone);
   }
 }
 
@@ -227,7 +236,7 @@ TEST(JointMessage, SurvivesRandomCorruption) {
         b.erase(b.begin() + static_cast<long>(at));
       }
     }
-    if (d.Decode(b.data(), b.size(), 0, &s) == MessageRejection::kNone) {
+    if (d.Decode(b.data(), b.size(), 0, &s) == Rejection::kNone) {
       ++accepted;
       ASSERT_EQ(s.q.size(), 3);
       ASSERT_TRUE(s.q.allFinite() && s.qd.allFinite() && s.qdd.allFinite() && s.tau.allFinite());
@@ -254,7 +263,7 @@ TEST(BodyMessage, RoundTripAndRefusals) {
   const std::vector<std::uint8_t> bytes = EncodeBodyWrench(b, "payload");
   BodySample out;
   std::string why;
-  ASSERT_EQ(DecodeBodyWrench(bytes.data(), bytes.size(), &out, &why), MessageRejection::kNone) << why;
+  ASSERT_EQ(DecodeBodyWrench(bytes.data(), bytes.size(), &out, &why), Rejection::kNone) << why;
   EXPECT_EQ(out.t, 3.25);
   EXPECT_EQ(out.twist, b.twist);
   EXPECT_EQ(out.acceleration, b.acceleration);
@@ -266,11 +275,11 @@ TEST(BodyMessage, RoundTripAndRefusals) {
   m.has_twist = false;
   std::vector<std::uint8_t> no_twist(static_cast<size_t>(m.getEncodedSize()));
   m.encode(no_twist.data(), 0, static_cast<int>(no_twist.size()));
-  EXPECT_EQ(DecodeBodyWrench(no_twist.data(), no_twist.size(), &out, &why), MessageRejection::kWrongSize);
+  EXPECT_EQ(DecodeBodyWrench(no_twist.data(), no_twist.size(), &out, &why), Rejection::kWrongSize);
   b.wrench[4] = std::nan("");
   const std::vector<std::uint8_t> nan = EncodeBodyWrench(b, "payload");
-  EXPECT_EQ(DecodeBodyWrench(nan.data(), nan.size(), &out, &why), MessageRejection::kNonFinite);
-  EXPECT_EQ(DecodeBodyWrench(bytes.data(), bytes.size() - 1, &out, &why), MessageRejection::kDecode);
+  EXPECT_EQ(DecodeBodyWrench(nan.data(), nan.size(), &out, &why), Rejection::kNonFinite);
+  EXPECT_EQ(DecodeBodyWrench(bytes.data(), bytes.size() - 1, &out, &why), Rejection::kDecode);
 }
 
 TEST(LcmLayout, RejectsBadLayouts) {

@@ -1,4 +1,5 @@
 #include "inertial/formats/joint_csv.hpp"
+#include "inertial/estimation/log_differentiation.hpp"
 #include "inertial/formats/body_csv.hpp"
 
 #include <gtest/gtest.h>
@@ -24,7 +25,7 @@ const std::vector<std::string> kJoints{"j1", "j2"};
 JointSamples Parse(const std::string& text, const JointCsvOptions& options = {}, JointCsvReport* report = nullptr,
                    const std::vector<std::string>& joints = kJoints) {
   std::istringstream in(text);
-  return ParseJointCsv(in, "log.csv", joints, options, report);
+  return ParseJointLog(in, "log.csv", joints, options, report);
 }
 
 /// The CsvError message of parsing `text`, or a test failure if it parses.
@@ -66,8 +67,8 @@ TEST(JointCsv, ReadsAllColumnsWhateverTheirOrder) {
     EXPECT_EQ(s.tau(r, 1), base + 8);
   }
   EXPECT_TRUE(report.notices.empty());
-  EXPECT_FALSE(report.derived_qd);
-  EXPECT_FALSE(report.derived_qdd);
+  EXPECT_FALSE(report.missing_qd);
+  EXPECT_FALSE(report.missing_qdd);
 }
 
 TEST(JointCsv, ToleratesCrLfBlankLinesSpacesByteOrderMarkAndPlusSigns) {
@@ -282,13 +283,13 @@ TEST(JointCsv, DerivesVelocitiesAndAccelerationsFromPositions) {
   JointCsvReport report;
   const JointSamples s = Parse(log.Csv(false, false, false), {}, &report);
   ASSERT_EQ(s.size(), 1000);
-  EXPECT_TRUE(report.derived_qd);
-  EXPECT_TRUE(report.derived_qdd);
+  EXPECT_TRUE(report.missing_qd);
+  EXPECT_TRUE(report.missing_qdd);
   ASSERT_EQ(report.notices.size(), 2u);
   EXPECT_EQ(report.notices[0],
-            "log.csv: no velocity column qd_j1, qd_j2; all velocities derived from q by Savitzky-Golay (order 4, window 0.1 s)");
+            "log.csv: no velocity column qd_j1, qd_j2; all velocities are derived from q by Savitzky-Golay (order 4, window 0.1 s)");
   EXPECT_EQ(report.notices[1],
-            "log.csv: no acceleration column qdd_j1, qdd_j2; all accelerations derived from q by Savitzky-Golay (order 4, "
+            "log.csv: no acceleration column qdd_j1, qdd_j2; all accelerations are derived from q by Savitzky-Golay (order 4, "
             "window 0.1 s)");
   EXPECT_EQ(s.q, log.q);
   const auto interior = Eigen::seq(25, 974);  // beyond the one-sided windows (0.1 s = about 20 samples)
@@ -299,17 +300,34 @@ TEST(JointCsv, DerivesVelocitiesAndAccelerationsFromPositions) {
   EXPECT_LT((s.qdd - log.qdd).cwiseAbs().maxCoeff(), 1e-2 * max_qdd);
 }
 
+// The reader only reads: what is missing comes back as zeros and is reported; deriving it is the
+// preprocessing stage's (log_differentiation.hpp), which ParseJointLog applies.
+TEST(JointCsv, TheReaderOnlyReadsAndSaysWhatIsMissing) {
+  const SineLog log = MakeSineLog(200, 23);
+  JointCsvReport report;
+  std::istringstream in(log.Csv(false, false, false));
+  const JointSamples raw = ParseJointCsv(in, "log.csv", kJoints, {}, &report);
+  EXPECT_TRUE(report.missing_qd);
+  EXPECT_TRUE(report.missing_qdd);
+  EXPECT_EQ(raw.qd, Eigen::MatrixXd::Zero(200, 2));
+  EXPECT_EQ(raw.qdd, Eigen::MatrixXd::Zero(200, 2));
+  EXPECT_EQ(raw.q, log.q);
+  JointSamples derived = raw;
+  DeriveFromPositions(&derived, true, true, JointCsvOptions{}.differentiation);
+  EXPECT_EQ(Parse(log.Csv(false, false, false)).qdd, derived.qdd);
+}
+
 TEST(JointCsv, OneMissingVelocityColumnDerivesAllVelocities) {
   const SineLog log = MakeSineLog(400, 22);
   JointCsvOptions options;
   options.differentiation = SavitzkyGolayOptions{3, 0.08};
   JointCsvReport report;
   const JointSamples s = Parse(log.Csv(true, false, true), options, &report);
-  EXPECT_TRUE(report.derived_qd);
-  EXPECT_FALSE(report.derived_qdd);
+  EXPECT_TRUE(report.missing_qd);
+  EXPECT_FALSE(report.missing_qdd);
   ASSERT_EQ(report.notices.size(), 1u);
   EXPECT_EQ(report.notices[0],
-            "log.csv: no velocity column qd_j2; all velocities derived from q by Savitzky-Golay (order 3, window 0.08 s) for "
+            "log.csv: no velocity column qd_j2; all velocities are derived from q by Savitzky-Golay (order 3, window 0.08 s) for "
             "consistency, ignoring qd_j1");
   // The given qd_j1 (offset by 100) is not used; the given accelerations are.
   EXPECT_LT(testing::RelativeError(s.qd, log.qd), 1e-2);
@@ -604,7 +622,7 @@ TEST(JointCsv, ReadsTheKukaMeasurements) {
   EXPECT_EQ(s.size(), 5027);
   EXPECT_EQ(s.q.cols(), 7);
   EXPECT_TRUE(report.notices.empty());
-  EXPECT_FALSE(report.derived_qd);
+  EXPECT_FALSE(report.missing_qd);
   EXPECT_GT(s.t[s.size() - 1], 24.0);
   EXPECT_LT(s.t[s.size() - 1], 26.0);
 

@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::istringstream in(fuzz::Text(data + 1, size - 1));
   JointSamples log;
   try {
-    log = ParseJointCsv(in, "fuzz.csv", fuzz::Leg().dof_names, options);
+    log = ParseJointLog(in, "fuzz.csv", fuzz::Leg().dof_names, options);
   } catch (const CsvError&) {
     return 0;
   }

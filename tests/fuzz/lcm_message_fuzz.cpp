@@ -43,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     OnlineBodyEstimator e(fuzz::UnitBody());
     while (next(&message, &length)) {
       BodySample s;
-      if (DecodeBodyWrench(message, length, &s) == MessageRejection::kNone) {
+      if (DecodeBodyWrench(message, length, &s) == Rejection::kNone) {
         if (!s.twist.allFinite() || !s.wrench.allFinite() || !std::isfinite(s.t)) fuzz::Fail("a decoded value is not finite");
         e.Update(s);
       }
@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   OnlineJointEstimator e(fuzz::LegDynamics(), Eigen::VectorXd::Zero(fuzz::LegDynamics().num_parameters()));
   JointSample s;
   while (next(&message, &length)) {
-    if (decoder.Decode(message, length, recv_utime, &s) == MessageRejection::kNone) {
+    if (decoder.Decode(message, length, recv_utime, &s) == Rejection::kNone) {
       if (!s.q.allFinite() || !s.qd.allFinite() || !s.qdd.allFinite() || !s.tau.allFinite() || !std::isfinite(s.t)) {
         fuzz::Fail("a decoded value is not finite");
       }

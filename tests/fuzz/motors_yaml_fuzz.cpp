@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     MotorReading reading{0.0, 0.1, -0.2, 0.3}, back;
     const CanFrame frame = EncodeMotorFrame(m, reading);
     std::string why;
-    if (DecodeMotorFrame(m, frame, &back, &why) != FrameRejection::kNone) fuzz::Fail("a motor's own frame is refused: " + why);
+    if (DecodeMotorFrame(m, frame, &back, &why) != Rejection::kNone) fuzz::Fail("a motor's own frame is refused: " + why);
     if (!std::isfinite(back.q) || !std::isfinite(back.qd) || !std::isfinite(back.tau)) fuzz::Fail("a decoded value is not finite");
   }
   CanJointAssembler assembler(config, joints);

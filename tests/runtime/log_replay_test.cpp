@@ -11,6 +11,7 @@
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/runtime/log_replay.hpp"
+#include "inertial/runtime/estimation_daemon.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -93,7 +94,7 @@ TEST(LogReplay, SameEstimateAsFeedingTheSamplesDirectly) {
   const ReplayResult b = ReplayLog(mixed.string(), &from_mixed, options);
   EXPECT_EQ(from_mixed.estimator().parameters(), direct);
   EXPECT_EQ(b.counters.accepted, static_cast<std::uint64_t>(f.log.size()));
-  EXPECT_EQ(b.counters.received, static_cast<std::uint64_t>(f.log.size()) + b.counters.rejected.at("decode"));
+  EXPECT_EQ(b.counters.received, static_cast<std::uint64_t>(f.log.size()) + b.counters[Rejection::kDecode]);
   EXPECT_GT(b.events, b.counters.received);  // the OTHER channel is read and skipped
   EXPECT_GT(b.samples_per_second, 1000.0);
   // The estimate trajectory: one CSV row and one estimate_t event per 0.1 s of log time.
@@ -138,13 +139,13 @@ TEST(LogReplay, DaemonOnAFileProvider) {
   EstimationDaemon daemon(model, o);
   std::atomic<bool> stop{false};
   std::thread runner([&] { daemon.Run(stop); });
-  for (int i = 0; i < 2000 && daemon.counters().accepted < static_cast<std::uint64_t>(f.log.size()); ++i) {
+  for (int i = 0; i < 2000 && daemon.counters().samples.accepted < static_cast<std::uint64_t>(f.log.size()); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   stop = true;
   runner.join();
-  EXPECT_EQ(daemon.counters().accepted, static_cast<std::uint64_t>(f.log.size())) << daemon.CountersText();
-  EXPECT_EQ(daemon.estimator().estimator().parameters(), Direct(model, f.log));
+  EXPECT_EQ(daemon.counters().samples.accepted, static_cast<std::uint64_t>(f.log.size())) << daemon.CountersText();
+  EXPECT_EQ(daemon.robot_estimator()->estimator().parameters(), Direct(model, f.log));
   fs::remove(log);
 }
 

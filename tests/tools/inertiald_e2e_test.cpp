@@ -129,7 +129,7 @@ sleep 0.5; kill -INT $LOGGER; wait $LOGGER
   OnlineJointEstimator replayed(model, Eigen::VectorXd::Zero(model.num_parameters()), eo);
   const ReplayResult r = ReplayLog((dir / "recorded.lcm").string(), &replayed, ReplayOptions{});
   EXPECT_EQ(r.counters.accepted, 2403u);
-  EXPECT_EQ(r.counters.rejected.count("decode") ? r.counters.rejected.at("decode") : 0u,
+  EXPECT_EQ(r.counters[Rejection::kDecode],
             static_cast<std::uint64_t>(malformed));
   // The daemon's final state (saved at SIGINT) is the replay's, bit for bit.
   const EstimatorState final_state = LoadEstimatorState((dir / "state.json").string());

@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "inertial/config/daemon_config.hpp"
 #include "inertial/config/motors_yaml.hpp"
 #include "inertial/runtime/log_replay.hpp"
 #include "inertial/formats/file_error.hpp"
@@ -54,22 +55,20 @@ int NothingReplayed(const std::string& path, const ReplayOptions& options, const
     if (r.counters.received == 0) {
       std::cerr << "of its " << r.events << " lines none is a candump frame";
     } else {
-      std::cerr << "its " << r.counters.received << " frames made " << r.can.ticks << " complete ticks (unknown id "
-                << r.can.unknown_id << ", malformed " << r.can.malformed << ", late " << r.can.late
-                << "): check --can-config's ids and window";
+      std::cerr << "its " << r.counters.received << " frame lines made " << r.samples << " complete ticks ("
+                << RejectionsText(r.counters) << "): check --can-config's ids and window";
     }
   } else if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".csv") == 0) {
-    std::cerr << "every one of its " << r.counters.received << " samples was refused:";
-    for (const auto& [reason, count] : r.counters.rejected) std::cerr << " " << reason << " " << count;
+    std::cerr << "every one of its " << r.counters.received << " samples was refused: " << RejectionsText(r.counters);
   } else if (r.counters.received == 0) {
     std::cerr << "no message on channel " << options.channel << ";";
     if (r.channels.empty()) std::cerr << " it has no channel at all";
     for (const auto& [channel, count] : r.channels) std::cerr << " " << channel << " (" << count << " messages)";
     std::cerr << "; choose one with --channel";
   } else {
-    std::cerr << "every one of the " << r.counters.received << " messages on " << options.channel << " was refused:";
-    for (const auto& [reason, count] : r.counters.rejected) std::cerr << " " << reason << " " << count;
-    if (r.counters.rejected.count("unknown_joint") != 0) std::cerr << " (the messages name joints the --model does not have)";
+    std::cerr << "every one of the " << r.counters.received << " messages on " << options.channel
+              << " was refused: " << RejectionsText(r.counters);
+    if (r.counters[Rejection::kUnknownJoint] != 0) std::cerr << " (the messages name joints the --model does not have)";
   }
   std::cerr << "\n";
   return kNoData;
@@ -117,6 +116,7 @@ int RunReplayCommand(const ReplayCommand& c) {
       options.format = daemon.format;
       estimator_options = daemon.estimator;
       options.estimate_period_s = 1.0 / daemon.publish_rate_hz;
+      options.residual_window_s = daemon.residual_window_s;
     } catch (const std::exception& e) {  // not JSON, or not a valid configuration: a file error
       std::cerr << "Error: --config: " << c.config << ": " << e.what() << "\n";
       return kIoError;
@@ -173,15 +173,12 @@ int RunReplayCommand(const ReplayCommand& c) {
     std::cerr << "Error: " << e.what() << "\n";
     return kUsage;
   }
+  const std::string reasons = RejectionsText(r.counters);
   std::cout << "replayed " << path << ": " << r.events << (options.can ? " lines, " : " events, ") << r.counters.received
-            << (options.can ? " frames" : " on " + options.channel) << "; accepted " << r.counters.accepted
-            << ", rejected " << r.counters.total_rejected();
-  for (const auto& [reason, count] : r.counters.rejected) std::cout << " (" << reason << " " << count << ")";
+            << (options.can ? " frame lines" : " on " + options.channel) << "; accepted " << r.counters.accepted
+            << ", rejected " << r.counters.total_rejected() << (reasons.empty() ? "" : " (" + reasons + ")");
   if (options.can) {
-    const CanCounters& k = r.can;
-    std::cout << "\nCAN: " << k.ticks << " complete ticks; unknown id " << k.unknown_id << ", malformed " << k.malformed
-              << ", error frames " << k.error_frames << ", late " << k.late << ", superseded " << k.superseded
-              << "; " << r.lines_not_frames << " lines that are not frames";
+    std::cout << "\nCAN: " << r.samples << " complete ticks; " << r.lines_not_frames << " lines that are not frames";
   }
   std::cout << "\nthroughput: " << static_cast<long long>(r.samples_per_second) << " samples/s (" << r.seconds
             << " s)\n";

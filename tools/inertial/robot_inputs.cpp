@@ -76,7 +76,7 @@ int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCs
                  std::vector<int>* lines) {
   try {
     JointCsvReport report;
-    *samples = ReadJointCsv(path, robot.dof_names, csv, &report);
+    *samples = ReadJointLog(path, robot.dof_names, csv, &report);
     if (lines != nullptr) *lines = report.lines;
     for (const std::string& n : report.notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {

@@ -26,6 +26,9 @@ EstimatorKind ParseEstimatorKind(std::string_view name);
 struct JointSample {
   double t = 0.0;
   Eigen::VectorXd q, qd, qdd, tau;
+  /// False: the source did not measure qdd (it holds zeros); the preprocessing stage
+  /// (stream_preprocessor.hpp) derives it before the estimator sees the sample.
+  bool has_qdd = true;
 };
 
 /// Sample i of a joint log (joint_samples.hpp) as a JointSample; reuses *out's memory when sizes

@@ -8,15 +8,16 @@
 /// - Column `t`: time in seconds, strictly increasing; non-uniform steps are fine. Stamps in other
 ///   units (milliseconds, nanoseconds: common in ROS exports) are converted with
 ///   options.time_scale; without it, stamps that do not look like seconds are refused (see
-///   ScaleTimeStamps), before anything (Savitzky-Golay differentiation) uses them.
+///   ScaleTimeStamps), before anything (differentiation) uses them.
 /// - For each actuated joint J: `q_J` (rad or m) and `tau_J` (N m or N) required; `qd_J` and `qdd_J`
 ///   optional. SI units. Column order is free.
 /// - Other columns are ignored (one notice lists them); their cells are not parsed.
 /// - Every used cell is a finite decimal number (formats/number_parsing.hpp's ParseDouble).
-/// - If qd_J is missing for any joint, all velocities are derived from q by Savitzky-Golay
-///   (estimation/savitzky_golay.hpp, options.differentiation) for consistency, and a notice says
-///   so (also naming any qd columns thereby ignored); the same, independently, for qdd (the second
-///   derivative of the same fit of q).
+/// - If qd_J is missing for any joint, all velocities are to be derived from q, for consistency:
+///   the reader only reads, so it returns qd as zeros, sets report.missing_qd, and a notice says so
+///   (also naming any qd columns thereby ignored); the same, independently, for qdd. Deriving is
+///   the preprocessing stage's: DeriveFromPositions (estimation/log_differentiation.hpp, a
+///   Savitzky-Golay fit of q with options.differentiation), which ReadJointLog below applies.
 /// - A row with the same t as the previous accepted row: dropped if its used values are all
 ///   identical to that row's (counted in a notice); otherwise an error (a bad row).
 ///
@@ -42,7 +43,7 @@ namespace inertial {
 
 struct JointCsvOptions {
   bool skip_bad_rows = false;                  ///< skip and count bad rows instead of rejecting the file
-  SavitzkyGolayOptions differentiation;       ///< for qd / qdd derived from q
+  SavitzkyGolayOptions differentiation;       ///< for qd / qdd derived from q (by ReadJointLog)
   /// Seconds per unit of the t column (1e-3 for milliseconds, 1e-9 for nanoseconds; --time-scale),
   /// or 0: not given, the stamps must look like seconds (ScaleTimeStamps).
   double time_scale = 0.0;
@@ -52,8 +53,8 @@ struct JointCsvReport {
   std::vector<std::string> notices;  ///< human-readable, one sentence each, prefixed with the source
   int skipped_rows = 0;              ///< bad rows skipped (skip_bad_rows)
   int duplicate_rows = 0;            ///< identical repeated rows dropped
-  bool derived_qd = false;           ///< velocities computed from q
-  bool derived_qdd = false;          ///< accelerations computed from q
+  bool missing_qd = false;           ///< velocities not read: to be derived from q (zeros returned)
+  bool missing_qdd = false;          ///< accelerations not read: to be derived from q (zeros returned)
   std::vector<int> lines;            ///< the 1-based file line of each returned sample
 };
 
@@ -89,6 +90,15 @@ void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std
 /// negative or not finite.
 JointSamples ReadJointCsv(const std::string& path, const std::vector<std::string>& joint_names,
                           const JointCsvOptions& options = {}, JointCsvReport* report = nullptr);
+
+/// A joint log as the offline tools use it: ReadJointCsv, then the preprocessing stage
+/// DeriveFromPositions (log_differentiation.hpp) for what the file lacks. @throws as ReadJointCsv,
+/// and CsvError "path: cannot derive ..." if the derivation fails.
+JointSamples ReadJointLog(const std::string& path, const std::vector<std::string>& joint_names,
+                          const JointCsvOptions& options = {}, JointCsvReport* report = nullptr);
+/// As ReadJointLog, from a stream; `source_name` stands for the file in messages.
+JointSamples ParseJointLog(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,
+                           const JointCsvOptions& options = {}, JointCsvReport* report = nullptr);
 
 /// As ReadJointCsv, from a stream; `source_name` stands for the file in messages.
 JointSamples ParseJointCsv(std::istream& in, const std::string& source_name, const std::vector<std::string>& joint_names,

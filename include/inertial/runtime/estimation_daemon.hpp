@@ -1,12 +1,14 @@
 /// @file estimation_daemon.hpp
-/// inertiald as a library: joint-state messages from an LCM channel (or, for a single body on a
-/// wrench sensor, inertial.body_wrench_t messages), the recursive estimator of
-/// online_joint_estimator.hpp (online_body_estimator.hpp) on every sample, estimates (inertial.estimate_t) published at a fixed
-/// rate, checkpoints of the estimator state, counters of everything.
+/// inertiald as a library: the threaded driver of the sample pipeline. Source: joint-state
+/// messages from an LCM channel, inertial.body_wrench_t messages of a single body on a wrench
+/// sensor, or a robot's motor frames from a CAN bus; sinks: estimates (inertial.estimate_t)
+/// published at a fixed rate, residuals, checkpoints of the estimator state, a model file.
 ///
-/// Threads: an LCM receiver decodes each message (joint_message.hpp: nothing trusted) and pushes the
-/// sample into a bounded queue (a full queue drops the sample and counts it; memory never grows);
-/// the estimator thread (Run's caller) pops, updates, publishes and checkpoints. Run returns when
+/// Threads: a receiver decodes each input (sample_decoder.hpp: nothing trusted) and pushes the
+/// sample into a bounded queue (a full queue drops the sample and counts it, kQueueFull; memory
+/// never grows); the estimator thread (Run's caller) pops into the pipeline (sample_pipeline.hpp:
+/// preprocess, estimator, accounting; the same code replay runs, log_replay.hpp), publishes and
+/// checkpoints. Run returns when
 /// `stop` becomes true (e.g. from SIGINT/SIGTERM), after draining the queue, a last publication
 /// and a last checkpoint. A checkpoint found at start is restored (same model and estimator, or it
 /// is ignored with a warning), so a restart loses only what came after the last one.
@@ -21,12 +23,13 @@
 #include <set>
 #include <string>
 
+#include "inertial/config/daemon_config.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/runtime/estimate_message.hpp"
+#include "inertial/runtime/sample_decoder.hpp"
+#include "inertial/runtime/sample_pipeline.hpp"
 #include "inertial/transport/can_bus.hpp"
-#include "inertial/transport/can_joint_assembler.hpp"
-#include "inertial/config/daemon_config.hpp"
-#include "inertial/transport/joint_message.hpp"
 
 namespace lcm {
 class LCM;
@@ -34,16 +37,15 @@ class LCM;
 
 namespace inertial {
 
+/// The daemon's counters: the pipeline's as a whole (TotalCounters, sample_pipeline.hpp: inputs
+/// received, samples accepted, rejections of every stage by reason, kQueueFull for samples dropped
+/// by a full queue) and its sinks'.
 struct DaemonCounters {
-  std::uint64_t received = 0;  ///< messages on the input channel
-  std::uint64_t accepted = 0;  ///< samples that updated the estimate
-  std::uint64_t dropped = 0;   ///< samples lost to a full queue
+  SampleCounters samples;
   std::uint64_t published = 0;
   std::uint64_t checkpoints = 0;
   std::uint64_t checkpoint_failures = 0;  ///< checkpoints that could not be written
   std::uint64_t publish_failures = 0;     ///< estimates LCM could not send
-  std::map<std::string, std::uint64_t> rejected;  ///< by reason (decode, wrong_size, unknown_joint, ...)
-  std::uint64_t total_rejected() const;
 };
 
 class EstimationDaemon {
@@ -64,12 +66,12 @@ class EstimationDaemon {
   DaemonCounters counters() const;
   /// A one-paragraph summary of the counters (printed on exit).
   std::string CountersText() const;
-  /// The robot's estimator (robot mode only).
-  const OnlineJointEstimator& estimator() const { return *estimator_; }
-  /// The body's estimator (single-body mode only), or null.
+  /// The robot's estimator, or null for a single body.
+  const OnlineJointEstimator* robot_estimator() const { return robot_.get(); }
+  /// The body's estimator, or null for a robot.
   const OnlineBodyEstimator* body_estimator() const { return body_.get(); }
   /// Either mode's recursive estimator.
-  const RecursiveEstimator& recursive_estimator() const;
+  const RecursiveEstimator& recursive_estimator() const { return pipeline_->estimator(); }
   /// The daemon's LCM instance (LCM publishes from any thread): with memq:// the only way in.
   lcm::LCM& lcm();
   bool restored_from_checkpoint() const { return restored_; }
@@ -85,8 +87,9 @@ class EstimationDaemon {
 
  private:
   struct Impl;
-  struct Sample;  // what the queue holds: a joint sample or a body sample
-  void Start(int num_channels);
+  EstimationDaemon(DaemonOptions options, SampleDecoder decoder, std::unique_ptr<OnlineJointEstimator> robot,
+                   std::unique_ptr<OnlineBodyEstimator> body, std::unique_ptr<CanBus> bus);
+  void RestoreCheckpoint();
   void Log(LogLevel level, const std::string& text) const;
   /// What the daemon cannot do is said once: the first time `problem` occurs, true (log it, at warn
   /// or error); after that false (log at debug level: the counters carry the count) until
@@ -94,43 +97,23 @@ class EstimationDaemon {
   bool FirstTime(const std::string& problem);
   /// `problem` no longer occurs: true if it had (log that once), and it will be said again if it recurs.
   bool Recovered(const std::string& problem);
-  void Process(const Sample& sample);
-  void Account(UpdateStatus status, double t, const Eigen::VectorXd& residual);
+  void Process(Sample* sample);
   void Publish(std::int64_t utime);
   void Checkpoint();
-  std::string Description() const;
+  void WriteModel();
 
   DaemonOptions options_;
-  std::unique_ptr<OnlineJointEstimator> estimator_;
+  std::unique_ptr<OnlineJointEstimator> robot_;
   std::unique_ptr<OnlineBodyEstimator> body_;
+  std::unique_ptr<SamplePipeline> pipeline_;  // touched by the estimator thread, under process_mutex_
   std::unique_ptr<Impl> impl_;
-  mutable std::mutex counters_mutex_, log_mutex_, problems_mutex_;
+  mutable std::mutex process_mutex_, sinks_mutex_, log_mutex_, problems_mutex_;
   std::set<std::string> problems_;  // FirstTime
-  DaemonCounters counters_;
+  std::uint64_t published_ = 0, checkpoints_ = 0, checkpoint_failures_ = 0, publish_failures_ = 0;  // sinks_mutex_
   bool restored_ = false;
   std::function<void(const std::string&)> log_sink_;
   std::function<void(const OnlineJointEstimator&)> model_sink_;
   std::atomic<bool>* model_request_ = nullptr;
-  void WriteModel();
-  // Residual window.
-  Eigen::VectorXd window_sum_, window_rms_;
-  double window_start_ = -1.0, last_t_ = 0.0;
-  int window_count_ = 0;
-  bool window_completed_ = false;
 };
-
-/// What a robot estimator's checkpoint says of its model ("gauss_newton estimator; joints ...;
-/// parameters ..."): a checkpoint is restored only into an estimator with the same description.
-std::string CheckpointDescription(const OnlineJointEstimator& estimator);
-
-/// The estimate message of the single-body estimator (one body `name`; channels mx .. fz).
-std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimator, const std::string& name,
-                                             std::int64_t utime, const Eigen::VectorXd& residual_rms,
-                                             double residual_window, const DaemonCounters& counters);
-
-/// The estimate message of an online estimator (bodies, effects, residual RMS, counters).
-std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& estimator, std::int64_t utime,
-                                         const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const DaemonCounters& counters);
 
 }  // namespace inertial

@@ -17,7 +17,7 @@ const LcmLayout& BodyWrenchLayout();
 
 /// Decodes one message into *sample; kWrongSize if it has no twist (the velocity product needs it),
 /// kNonFinite for a NaN or Inf. *why (optional) says what is wrong.
-MessageRejection DecodeBodyWrench(const void* data, std::size_t size, BodySample* sample, std::string* why = nullptr);
+Rejection DecodeBodyWrench(const void* data, std::size_t size, BodySample* sample, std::string* why = nullptr);
 
 /// Encodes a sample (utime = t * 1e6; has_twist true).
 std::vector<std::uint8_t> EncodeBodyWrench(const BodySample& sample, const std::string& frame);

@@ -4,15 +4,16 @@
 /// layout and which fields are q, qd, qdd, tau, the time and the joint names), e.g. for MIT
 /// Cheetah-style leg_control_data_lcmt: {"layout": {...}, "joint_names": [...], "q": "q",
 /// "qd": "qd", "tau": "tau_est"}. Every message is decoded by lcm_layout.hpp (nothing trusted) and
-/// mapped by joint name onto the model's DOFs. Without accelerations, qdd is the causal difference
-/// of qd, low-passed at accel_cutoff_hz (the first sample only primes it).
+/// mapped by joint name onto the model's DOFs. A message without accelerations gives a sample with
+/// has_qdd false: deriving qdd is the preprocessing stage's (stream_preprocessor.hpp), at the
+/// format's accel_cutoff_hz; the decoder only decodes.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/causal_acceleration.hpp"
+#include "inertial/estimation/rejection.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 #include "inertial/transport/lcm_layout.hpp"
 #include "inertial/model/joint_samples.hpp"
@@ -28,13 +29,8 @@ struct JointMessageFormat {
   std::string names_field = "joint_names";  ///< a string array; empty: joint_names below
   std::vector<std::string> joint_names;     ///< the order of the arrays when names_field is empty
   std::string q = "q", qd = "qd", qdd = "qdd", tau = "tau";  ///< qdd empty: derived
-  double accel_cutoff_hz = 20.0;
+  double accel_cutoff_hz = 20.0;  ///< for the preprocessing stage, when qdd is not in the messages
 };
-
-/// Why a message gave no sample (beside kNone).
-enum class MessageRejection { kNone, kDecode, kWrongSize, kUnknownJoint, kNonFinite, kOutOfOrder, kPriming };
-/// "ok", "decode", "wrong_size", "unknown_joint", "non_finite", "out_of_order", "priming".
-const char* ToString(MessageRejection r);
 
 class JointMessageDecoder {
  public:
@@ -43,8 +39,9 @@ class JointMessageDecoder {
   JointMessageDecoder(JointMessageFormat format, std::vector<std::string> dof_names);
 
   /// Decodes one message into *sample (sized for the model once; reused). recv_utime is used when
-  /// the format has no time field. On rejection *why (optional) says what is wrong.
-  MessageRejection Decode(const void* data, std::size_t size, std::int64_t recv_utime, JointSample* sample,
+  /// the format has no time field. Rejection::kNone, or kDecode, kWrongSize, kUnknownJoint,
+  /// kNonFinite (rejection.hpp); on rejection *why (optional) says what is wrong.
+  Rejection Decode(const void* data, std::size_t size, std::int64_t recv_utime, JointSample* sample,
                           std::string* why = nullptr);
 
   const JointMessageFormat& format() const { return format_; }
@@ -53,9 +50,6 @@ class JointMessageDecoder {
  private:
   JointMessageFormat format_;
   std::vector<std::string> dofs_;
-  bool primed_ = false;
-  double last_t_ = 0.0;
-  CausalAcceleration acceleration_;
 };
 
 /// Encodes a sample as inertial.joint_state_t (names in the sample's DOF order, utime = t * 1e6).

@@ -15,7 +15,7 @@
 ///
 /// motors.yaml:
 ///   window: 0.002            # s: a tick is complete when every joint reported within it
-///   accel_cutoff_hz: 20      # causal acceleration filter (causal_acceleration.hpp)
+///   accel_cutoff_hz: 20      # qdd from qd by the preprocessing stage (stream_preprocessor.hpp)
 ///   motors:
 ///     - {id: 0x001, joint: abad, protocol: mini_cheetah, position: [-12.5, 12.5],
 ///        velocity: [-65, 65], torque: [-18, 18], gear: 1, kt: 1, direction: 1, zero: 0}
@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "inertial/estimation/rejection.hpp"
 #include "inertial/transport/can_frame.hpp"
 
 namespace inertial {
@@ -68,13 +69,10 @@ struct CanConfig {
   std::vector<MotorConfig> motors;
 };
 
-/// Why a frame gave no reading.
-enum class FrameRejection { kNone, kUnknownId, kMalformed };
-
-/// Decodes a frame of motor `m` (its id already matched). kMalformed for a wrong length, a remote,
+/// Decodes a frame of motor `m` (its id already matched): Rejection::kNone, or kMalformed for a wrong length, a remote,
 /// error or FD frame, or (mini_cheetah) a byte 0 that is not the motor's id.
-FrameRejection DecodeMotorFrame(const MotorConfig& m, const CanFrame& frame, MotorReading* reading,
-                                std::string* why = nullptr);
+Rejection DecodeMotorFrame(const MotorConfig& m, const CanFrame& frame, MotorReading* reading,
+                           std::string* why = nullptr);
 
 /// The frame motor `m` would send for a joint reading (values saturated at the ranges): for
 /// simulated buses and tests.
