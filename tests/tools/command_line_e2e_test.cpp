@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include "cli_support.hpp"
 
@@ -57,6 +60,49 @@ TEST(CommandLine, AnUnknownOptionIsNamedWithTheNearestOrTheSubcommandThatHasIt) 
   r = testing::RunProgram(daemon, {"--model", "a.urdf", "--chanel", "X"});
   EXPECT_EQ(r.exit_code, 2) << Describe(r);
   EXPECT_TRUE(Contains(r.err, "Error: inertiald: unknown option --chanel (did you mean --channel?)")) << Describe(r);
+}
+
+// Every numeric option shows its type, unit and default one way (tools/numeric_options.hpp):
+// "--name TYPE [unit]=default", and nothing that takes a number still shows TEXT. The options that
+// may show TEXT are those whose value is a path, a name, or a list of words.
+TEST(CommandLine, EveryNumericOptionShowsTypeUnitAndDefaultOneWay) {
+  const std::set<std::string> words = {
+      "--model", "--data", "--validate", "--effects", "--predictions", "--write-urdf", "--report", "--out",
+      "--write-log", "--log-channel", "--write-candump", "--can-config", "--truth", "--truth-urdf", "--repair",
+      "--log", "--candump", "--channel", "--config", "--estimator", "--from", "--to", "--state", "--lcm-url",
+      "--estimate-channel", "--residual-channel", "--checkpoint", "--can", "--log-level", "--format", "--urdf"};
+  const std::regex line(R"(^  (--[a-z-]+) ([A-Z0-9][A-Z0-9 ]*?)( \[[^\]]+\])?(=.*?)?(\s{2,}.*)?$)");
+  const std::regex numeric_type(R"(^(INT|FLOAT|FLOATS|\d+ FLOATS)$)");
+  int numeric = 0;
+  auto check = [&](const std::string& program, const std::vector<std::string>& args) {
+    const testing::CliRun r = testing::RunProgram(program, args);
+    ASSERT_EQ(r.exit_code, 0) << Describe(r);
+    std::istringstream in(r.out);
+    for (std::string text; std::getline(in, text);) {
+      std::smatch m;
+      if (!std::regex_match(text, m, line)) continue;
+      const std::string name = m[1], type = m[2];
+      if (type.rfind("TEXT", 0) == 0) {
+        EXPECT_TRUE(words.count(name) == 1) << args[0] << ": " << text;
+      } else if (type != "REQUIRED") {
+        EXPECT_TRUE(std::regex_match(type, numeric_type)) << args[0] << ": " << text;
+        ++numeric;
+      }
+    }
+  };
+  const char* cli = std::getenv("INERTIAL_CLI");
+  const char* daemon = std::getenv("INERTIALD");
+  ASSERT_NE(cli, nullptr);
+  ASSERT_NE(daemon, nullptr);
+  for (const char* sub : {"study", "convert", "identify", "check", "simulate", "replay", "diagnose", "export", "validate"}) {
+    check(cli, {sub, "--help"});
+  }
+  check(daemon, {"--help"});
+  EXPECT_GE(numeric, 50);  // the table covers the numeric options of all ten commands
+  // The shape itself, on two examples.
+  const testing::CliRun r = RunCli({"identify", "--help"});
+  EXPECT_TRUE(Contains(r.out, "--sg-window FLOAT [s]=0.1")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "--gravity 3 FLOATS [m/s^2]=0 0 -9.81")) << r.out;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "command_line.hpp"
+#include "numeric_options.hpp"
 #include "commands.hpp"
 #include "exit_codes.hpp"
 
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   CLI::App* export_app = AddExportCommand(app, &export_command);
   ValidateCommand validate;
   CLI::App* validate_app = AddValidateCommand(app, &validate);
+  DescribeNumericOptions(app);
   if (const std::optional<int> done = ParseCommandLine(app, argc, argv, kUsage)) return *done;
   try {
     if (study_app->parsed()) return RunStudyCommand(study);

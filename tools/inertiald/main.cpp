@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "command_line.hpp"
+#include "numeric_options.hpp"
 #include "inertial/config/motors_yaml.hpp"
 #include "inertial/runtime/estimation_daemon.hpp"
 #include "inertial/formats/file_error.hpp"
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "error, warn, info (default) or debug");
   app.name("inertiald");
   app.set_version_flag("--version", "inertiald " INERTIAL_VERSION);
+  inertial::cli::DescribeNumericOptions(app);
   if (const std::optional<int> done = inertial::cli::ParseCommandLine(app, argc, argv, 2)) return *done;
 
   if (body == !model_path.empty()) {
