@@ -29,6 +29,7 @@ DenseLevenbergMarquardtResult MinimizeLevenbergMarquardt(const NormalEquationsFn
   const double g0_norm = g.lpNorm<Eigen::Infinity>();
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     result.iterations = iteration;
+    if (options.progress) options.progress(iteration, F);
     if (!g.allFinite() || !H.allFinite()) return finish(StopReason::kNumericalFailure);
     if (g.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance * std::max(1.0, g0_norm)) {
       return finish(StopReason::kGradient);

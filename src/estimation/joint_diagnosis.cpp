@@ -776,6 +776,7 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
   JointDiagnosis d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
   steps->clear();
   for (int step = 0; step < max_steps && d.num_suggestions > 0; ++step) {
+    if (options.progress) options.progress(step + 1, max_steps);
     const CandidateResult& top = d.candidates[0];
     DiagnosisStep s;
     s.added = top.name;

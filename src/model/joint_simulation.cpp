@@ -191,6 +191,7 @@ JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerF
       out.qd.row(i) = qd.transpose();
       out.qdd.row(i) = qdd.transpose();
       out.tau.row(i) = tau.transpose();
+      if (options.progress) options.progress(static_cast<double>(i + 1) / timing.num_samples);
       for (int s = 0; s < steps; ++s) {
         if (s > 0) {
           t = t_i + s * h;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -75,6 +76,32 @@ TEST(SimulateCli, PositionsOnlyAndBadOptions) {
   EXPECT_EQ(r.exit_code, 3) << Describe(r);
   r = RunCli({"simulate", "--model", leg, "--out", "/nonexistent/dir/x.csv"});
   EXPECT_EQ(r.exit_code, 5) << Describe(r);
+}
+
+// A long run shows its progress on stderr when stderr is a terminal (a pseudo-terminal from
+// util-linux's `script` here), erased before the results; in a pipe or a file nothing is added.
+TEST(SimulateCli, ShowsProgressOnATerminalOnly) {
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` (util-linux) to make a terminal";
+  const char* cli = std::getenv("INERTIAL_CLI");
+  ASSERT_NE(cli, nullptr);
+  const fs::path csv = testing::UniqueTempPath("progress.csv"), captured = testing::UniqueTempPath("tty.txt");
+  const std::string command = std::string(cli) + " simulate --model " + testing::Example("leg3.urdf") + " --out " +
+                              csv.string() + " --duration 30";
+  ASSERT_EQ(std::system(("script -qec '" + command + "' " + captured.string() + " > /dev/null 2>&1").c_str()), 0);
+  const std::string tty = testing::ReadFile(captured);
+  EXPECT_TRUE(Contains(tty, "\rsimulate: ")) << tty;
+  EXPECT_TRUE(Contains(tty, " %")) << tty;
+  // The line is erased (carriage return, blanks, carriage return) before the result is printed.
+  const std::size_t wrote = tty.find("wrote ");
+  ASSERT_NE(wrote, std::string::npos) << tty;
+  EXPECT_EQ(tty.rfind("\rsimulate: ", wrote) < wrote, true);
+  EXPECT_EQ(tty[wrote - 1], '\r') << tty;
+  const testing::CliRun piped = RunCli({"simulate", "--model", testing::Example("leg3.urdf"), "--out", csv.string(),
+                                        "--duration", "30"});
+  ASSERT_EQ(piped.exit_code, 0) << Describe(piped);
+  EXPECT_FALSE(Contains(piped.err, "simulate: ")) << piped.err;
+  fs::remove(csv);
+  fs::remove(captured);
 }
 
 }  // namespace

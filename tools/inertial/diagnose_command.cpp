@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "progress.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/body_csv.hpp"
 #include "inertial/report/diagnosis_html.hpp"
@@ -292,8 +293,13 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   std::vector<DiagnosisStep> path;
   JointDiagnosis d;
   try {
+    Progress progress("diagnose");
+    options.progress = [&](int step, int cap) {
+      progress.Show("step " + std::to_string(step) + " of at most " + std::to_string(cap));
+    };
     d = iterate > 0 ? IterateJointDiagnosis(make, effects, robot.body_links, train, validation, options, iterate, &path)
                     : DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
+    progress.Done();
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
     return kInvalidValue;

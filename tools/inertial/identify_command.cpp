@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "progress.hpp"
 #include "inertial/report/identification_report.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/formats/model_file.hpp"
@@ -115,7 +116,12 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
 
   IdentificationRun run;
   try {
+    Progress progress("identify");
+    options.lm.progress = [&](int iteration, double cost) {
+      progress.Show("iteration " + std::to_string(iteration) + ", cost " + std::to_string(cost));
+    };
     run = RunIdentification(*model, train, c.validate.empty() ? nullptr : &validation, options, outliers);
+    progress.Done();
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
     return kInvalidValue;

@@ -13,6 +13,7 @@
 #include "inertial/formats/file_error.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "exit_codes.hpp"
+#include "progress.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/transport/can_joint_assembler.hpp"
 #include "inertial/transport/joint_message.hpp"
@@ -171,9 +172,12 @@ int RunSimulateCommand(const SimulateCommand& c) {
     return kInvalidValue;
   }
   JointSamples samples;
+  Progress progress("simulate");
+  options.progress = [&](double f) { progress.Fraction(f); };
   try {
     samples = SimulateTracking(plant, plant, [&](double t) { return reference.Evaluate(t); }, options,
                                model->dof_names());
+    progress.Done();
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: simulation failed: " << e.what() << "\n";
     return kInvalidValue;

@@ -67,6 +67,8 @@ struct JointDiagnosisOptions {
   JointIdentificationOptions fit;
   /// Hold the links at their priors (see the file comment) and test payload candidates on every link.
   bool hold_links = false;
+  /// Optional: IterateJointDiagnosis calls it before each step with the step (1-based) and the cap.
+  std::function<void(int step, int max_steps)> progress;
   /// With free links: test `payload@link` on every link outside the prior tolerance.
   bool payloads = true;
   /// A link is believable within a factor 1 + prior_tolerance of its URDF (plausibility.hpp).

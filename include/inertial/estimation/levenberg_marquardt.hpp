@@ -16,6 +16,8 @@
 ///  - kNumericalFailure: F or the Jacobian became non-finite, or damping exceeded 1e16.
 #pragma once
 
+#include <functional>
+
 #include <string_view>
 
 #include "inertial/inertia/parameterization.hpp"
@@ -33,6 +35,8 @@ struct LevenbergMarquardtOptions {
   /// (false; only MinimizeLevenbergMarquardt of dense_levenberg_marquardt.hpp reads it). Levenberg's
   /// form lets the steps follow directions of small curvature that have large diagonal entries.
   bool scaled_damping = true;
+  /// Optional: called at the start of each iteration with its number and the cost so far.
+  std::function<void(int iteration, double cost)> progress;
 };
 
 enum class StopReason { kGradient, kStep, kFunction, kMaxIterations, kNumericalFailure };

@@ -53,6 +53,8 @@ struct JointSimulationOptions {
   /// Tracking gains (SimulateTracking only): one entry per joint, or one entry for all joints; >= 0.
   Eigen::VectorXd kp = Eigen::VectorXd::Constant(1, 400.0);  ///< [N m/rad]
   Eigen::VectorXd kd = Eigen::VectorXd::Constant(1, 40.0);   ///< [N m s/rad]
+  /// Optional: called after each output sample with the fraction of the samples done (0, 1].
+  std::function<void(double fraction)> progress;
 };
 
 /// Simulates the plant from (q_start, qd_start) under an arbitrary controller (passive motion: a
