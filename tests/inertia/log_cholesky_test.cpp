@@ -255,6 +255,27 @@ TEST(LogCholesky, InverseRefusesInconsistentBodies) {
 }
 
 // Eq. (11): theta = 0 is the reference body; t translates it, alpha scales its density, d stretches it.
+// What `inertial simulate --perturb P` promises of the true bodies: with U = e^alpha [A t; 0 1]
+// (LogCholeskyFactor), pi(theta) relative to a reference of mass m0 and COM c0 has mass
+// e^{2 alpha} m0 and COM A c0 + t (J = U J0 U^T: h = e^{2 alpha} (A h0 + m0 t)).
+TEST(LogCholeskyRelative, MassAndComOfAPerturbedBody) {
+  Rng rng(17);
+  for (int n = 0; n < 200; ++n) {
+    const InertialParams reference = SolidBox(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0),
+                                              rng.Uniform(0.05, 1.0), rng.RandomPose<Pose>(0.5));
+    const LogCholeskyParameterization param(reference);
+    const Vector10 theta = rng.UniformVector<10>(-0.2, 0.2);
+    const InertialParams body = InertialParams::FromVector(param.ToPi(theta));
+    const Matrix4 U = LogCholeskyFactor(theta);
+    const double e_alpha = std::exp(theta[kAlpha]);
+    const Matrix3 A = U.topLeftCorner<3, 3>() / e_alpha;
+    const Vector3 t = U.topRightCorner<3, 1>() / e_alpha;
+    EXPECT_NEAR(body.mass(), e_alpha * e_alpha * reference.mass(), 1e-14 * body.mass());
+    EXPECT_LT((body.com() - (A * reference.com() + t)).norm(), 1e-13);
+    EXPECT_LT((t - theta.tail<3>()).norm(), 1e-15);  // t is theta's last three entries, in metres
+  }
+}
+
 TEST(LogCholeskyRelative, PhysicalMeaningOfTheParameters) {
   Rng rng(16);
   for (int n = 0; n < 200; ++n) {

@@ -43,7 +43,11 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
                   "joint; spring takes k then k q0, asymmetric bp then bn), cycled if fewer; default 0.1 each")
       ->default_val("0.1");
   sub->add_option("--perturb", c->perturb,
-                  "true bodies: every log-Cholesky theta (relative to the URDF prior) uniform in [-P, P]; 0: the URDF")
+                  "true bodies: each link's log-Cholesky theta relative to its URDF body (eq. 11, U = e^alpha [A t; 0 1]) "
+                  "drawn uniform in [-P, P]: the mass is scaled by e^(2 alpha), between e^(-2P) and e^(2P); the mass "
+                  "distribution is stretched by e^(d_i) along the link frame's axes and sheared by s_ij (A); the COM c0 "
+                  "moves to A c0 + t, t up to P metres along each axis (so --perturb 0.2 moves COMs by up to 20 cm); "
+                  "every true body is physically consistent; 0: the URDF")
       ->default_val("0");
   sub->add_option("--duration", c->duration, "seconds of log")->default_val("20");
   sub->add_option("--rate", c->rate, "sample rate [Hz]")->default_val("500");
