@@ -46,7 +46,7 @@ TorqueErrors WrenchErrors(const BodyEffectModel& model, const Eigen::VectorXd& x
 
 struct BodyDiagnosisOptions {
   /// Generous caps: a velocity bias makes the problem strongly nonlinear.
-  LevenbergMarquardtOptions fit{500, 1e-10, 1e-10, 1e-10, 1e-3, true};
+  LevenbergMarquardtOptions fit{500, 1e-10, 1e-10, 1e-10, 1e-3, true, {}};
   double min_explained = 0.02;  ///< as JointDiagnosisOptions::min_explained
   double min_gain = 0.005;      ///< as JointDiagnosisOptions::min_gain (per wrench component)
   int folds = 5;                ///< blocks of DiagnoseBodyModelCrossValidated

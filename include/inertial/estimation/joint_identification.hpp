@@ -47,7 +47,7 @@ struct JointIdentificationOptions {
   /// Stops when an iteration lowers the cost by less than 1e-7 of it (or on tiny steps or
   /// gradients). Levenberg damping with the Newton Hessian: with Marquardt's scaling the fit
   /// crawls for hundreds of iterations along directions only the regularizer holds.
-  LevenbergMarquardtOptions lm{1000, 1e-7, 1e-10, 1e-10, 1e-3, false};
+  LevenbergMarquardtOptions lm{1000, 1e-7, 1e-10, 1e-10, 1e-3, false, {}};
   /// Damped Newton (the exact Hessian of the data term: Gauss-Newton plus the second derivatives
   /// of w(x), LogCholeskyParameterization::ContractedHessian) instead of Gauss-Newton. The damping
   /// keeps every step a descent step where that Hessian is indefinite.
