@@ -18,6 +18,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "urdf_effects.hpp"
+#include "urdf_joint_limits.hpp"
 #include "xml_error.hpp"
 
 namespace inertial {
@@ -414,6 +415,7 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
   tinyxml2::XMLDocument doc;
   doc.Parse(xml.c_str(), xml.size());  // parsed once already by ReadFileOrder
   model.effects = detail::ReadModelEffects(*doc.RootElement(), src, model.dof_names, &model.effect_declared);
+  model.dof_limits = detail::ReadJointLimits(*doc.RootElement(), src, model.dof_names);
   return model;
 }
 

@@ -432,6 +432,54 @@ TEST(UrdfModelErrors, FileErrorsStartWithThePath) {
   EXPECT_EQ(message.rfind(path.string() + ": joint 'j' is floating", 0), 0u) << message;
 }
 
+// --- joint limits ---
+
+// The one-joint robot with `limit` in place of the helper's <limit lower="-3" upper="3" ...>.
+std::string WithLimit(const std::string& type, const std::string& limit) {
+  std::string xml = OneJointRobot(type);
+  const std::string stock = "<limit lower=\"-3\" upper=\"3\" effort=\"100\" velocity=\"10\"/>";
+  const std::size_t at = xml.find(stock);
+  if (at != std::string::npos) {
+    xml.replace(at, stock.size(), limit);
+  } else {
+    xml.insert(xml.find("</joint>"), limit);
+  }
+  return xml;
+}
+
+TEST(UrdfModelLimits, ReadsEveryStatedLimitAndNothingElse) {
+  const RobotModel stock = ParseUrdf(OneJointRobot("revolute"), "r.urdf");
+  ASSERT_EQ(stock.dof_limits.size(), 1u);
+  EXPECT_EQ(stock.dof_limits[0].lower, -3.0);
+  EXPECT_EQ(stock.dof_limits[0].upper, 3.0);
+  EXPECT_EQ(stock.dof_limits[0].velocity, 10.0);
+  EXPECT_EQ(stock.dof_limits[0].effort, 100.0);
+  // Absent attributes and a 0 velocity or effort state no limit (urdfdom would read lower = 0).
+  const RobotModel open = ParseUrdf(WithLimit("prismatic", "<limit upper=\"0.25\" effort=\"0\" velocity=\"0.5\"/>"), "p.urdf");
+  EXPECT_TRUE(std::isinf(open.dof_limits[0].lower) && open.dof_limits[0].lower < 0);
+  EXPECT_EQ(open.dof_limits[0].upper, 0.25);
+  EXPECT_EQ(open.dof_limits[0].velocity, 0.5);
+  EXPECT_TRUE(std::isinf(open.dof_limits[0].effort));
+  // A continuous joint has no position range whatever <limit> says.
+  const RobotModel wheel = ParseUrdf(WithLimit("continuous", "<limit lower=\"-1\" upper=\"1\" effort=\"7\" velocity=\"3\"/>"), "c.urdf");
+  EXPECT_TRUE(std::isinf(wheel.dof_limits[0].lower) && std::isinf(wheel.dof_limits[0].upper));
+  EXPECT_EQ(wheel.dof_limits[0].velocity, 3.0);
+  EXPECT_EQ(wheel.dof_limits[0].effort, 7.0);
+  const RobotModel bare = ParseUrdf(OneJointRobot("continuous"), "c.urdf");
+  EXPECT_TRUE(std::isinf(bare.dof_limits[0].velocity) && std::isinf(bare.dof_limits[0].effort));
+}
+
+TEST(UrdfModelLimits, RefusesAnEmptyRangeNegativeBoundsAndBadNumbers) {
+  EXPECT_EQ(ErrorOf([] { ParseUrdf(WithLimit("revolute", "<limit lower=\"2\" upper=\"1\" effort=\"1\" velocity=\"1\"/>"), "r.urdf"); }),
+            "r.urdf: joint 'j': <limit> lower 2 is above upper 1");
+  EXPECT_NE(ErrorOf([] { ParseUrdf(WithLimit("revolute", "<limit lower=\"-1\" upper=\"1\" effort=\"-5\" velocity=\"1\"/>"), "r.urdf"); })
+                .find("r.urdf: joint 'j': <limit> velocity and effort must be >= 0"),
+            std::string::npos);
+  const std::string bad = ErrorOf([] { ParseUrdf(WithLimit("revolute", "<limit lower=\"-1\" upper=\"1x\" effort=\"5\" velocity=\"1\"/>"), "r.urdf"); });
+  EXPECT_EQ(bad.rfind("r.urdf: <limit> (line 5): attribute 'upper'", 0), 0u) << bad;  // before urdfdom reads it
+  EXPECT_NE(bad.find("upper"), std::string::npos) << bad;
+}
+
 // --- bundled and shared files ---
 
 std::string SourceDir() {

@@ -11,6 +11,7 @@
 #include "cli_support.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/formats/urdf_model.hpp"
+#include "inertial/model/joint_limits.hpp"
 #include "simulated_robot.hpp"
 
 namespace inertial {
@@ -20,6 +21,64 @@ using testing::Contains;
 using testing::Describe;
 using testing::RunCli;
 namespace fs = std::filesystem;
+
+// Every sample of s inside the model's <limit>s (positions, speeds, torques).
+void ExpectWithinLimits(const JointSamples& s, const RobotModel& robot) {
+  for (int j = 0; j < static_cast<int>(robot.dof_limits.size()); ++j) {
+    const JointLimits& l = robot.dof_limits[j];
+    EXPECT_GE(s.q.col(j).minCoeff(), l.lower) << robot.dof_names[j];
+    EXPECT_LE(s.q.col(j).maxCoeff(), l.upper) << robot.dof_names[j];
+    EXPECT_LE(s.qd.col(j).cwiseAbs().maxCoeff(), l.velocity) << robot.dof_names[j];
+    EXPECT_LE(s.tau.col(j).cwiseAbs().maxCoeff(), l.effort) << robot.dof_names[j];
+  }
+}
+
+TEST(SimulateCli, KeepsToTheUrdfsJointLimits) {
+  // The leg's knee may move in [0.3, 2.7] rad: the default excitation (0.9 rad about 0) would leave
+  // it, so it is centred at 1.5 rad; --ignore-limits excites about 0 and leaves the range.
+  const RobotModel leg = LoadUrdf(testing::Example("leg3.urdf"));
+  const int knee = leg.DofIndex("knee");
+  ASSERT_EQ(leg.dof_limits[knee].lower, 0.3);
+  const fs::path csv = testing::UniqueTempPath("limits.csv");
+  testing::CliRun r = RunCli({"simulate", "--model", testing::Example("leg3.urdf"), "--duration", "10", "--out", csv.string()});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  JointSamples s = ReadJointCsv(csv.string(), leg.dof_names);
+  ExpectWithinLimits(s, leg);
+  EXPECT_GT(s.q.col(knee).maxCoeff() - s.q.col(knee).minCoeff(), 0.5);  // still excited
+  r = RunCli({"simulate", "--model", testing::Example("leg3.urdf"), "--duration", "10", "--ignore-limits", "--out", csv.string()});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  EXPECT_LT(ReadJointCsv(csv.string(), leg.dof_names).q.col(knee).minCoeff(), 0.3);
+
+  // The arm's joints turn at 1.31 .. 2.36 rad/s at most: at a 0.4 Hz base frequency the excitation
+  // is scaled down joint by joint, and each scaled joint is named.
+  const RobotModel arm = LoadUrdf(testing::Example("arm7.urdf"));
+  r = RunCli({"simulate", "--model", testing::Example("arm7.urdf"), "--duration", "5", "--base-frequency", "0.4", "--out",
+              csv.string()});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "note: joint 'joint4': excitation scaled by")) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "to keep |qd| within its velocity limit 1.31")) << Describe(r);
+  s = ReadJointCsv(csv.string(), arm.dof_names);
+  ExpectWithinLimits(s, arm);
+  // 95 % of the limit, reached within a few per cent (the top speed is taken on the log's grid).
+  EXPECT_GT(s.qd.col(3).cwiseAbs().maxCoeff(), 0.9 * 1.31);
+  fs::remove(csv);
+}
+
+TEST(SimulateCli, RefusesAnExcitationBeyondAnEffortLimit) {
+  // The leg with every joint's effort limit at 0.5 N m: holding the leg against gravity needs more.
+  std::string urdf = testing::ReadFile(testing::Example("leg3.urdf"));
+  for (std::size_t at = urdf.find("effort=\""); at != std::string::npos; at = urdf.find("effort=\"", at + 1)) {
+    urdf.replace(at + 8, urdf.find('"', at + 8) - (at + 8), "0.5");
+  }
+  const fs::path model = testing::UniqueTempPath("weak.urdf"), csv = testing::UniqueTempPath("weak.csv");
+  std::ofstream(model) << urdf;
+  const testing::CliRun r = RunCli({"simulate", "--model", model.string(), "--duration", "2", "--out", csv.string()});
+  EXPECT_EQ(r.exit_code, 3) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "Error: simulation refused: at t = ")) << Describe(r);
+  EXPECT_TRUE(Contains(r.err, "beyond its URDF effort limit 0.5; lower --amplitude")) << Describe(r);
+  EXPECT_FALSE(fs::exists(csv));  // nothing written
+  fs::remove(model);
+}
 
 TEST(SimulateCli, TorquesAreTheTrueRobotsPlusItsEffects) {
   const fs::path csv = testing::UniqueTempPath("sim.csv"), truth = testing::UniqueTempPath("truth.json");

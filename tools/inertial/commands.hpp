@@ -67,6 +67,7 @@ struct SimulateCommand {
   std::string write_log;      ///< also write the samples as an LCM log of inertial.joint_state_t
   std::string log_channel = "INERTIAL_JOINT_STATE";
   std::string write_candump, can_config;  ///< also write motor frames as a candump log
+  bool ignore_limits = false;             ///< excite about 0 with the full amplitude, limits unchecked
 };
 CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);

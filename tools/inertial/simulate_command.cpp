@@ -18,6 +18,7 @@
 #include "inertial/transport/can_joint_assembler.hpp"
 #include "inertial/transport/joint_message.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
+#include "inertial/model/joint_limits.hpp"
 #include "inertial/model/joint_simulation.hpp"
 #include "option_parsing.hpp"
 
@@ -56,7 +57,13 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
       ->default_val("0");
   sub->add_option("--harmonics", c->harmonics, "harmonics of the excitation")->default_val("5");
   sub->add_option("--base-frequency", c->base_frequency, "base frequency of the excitation [Hz]")->default_val("0.1");
-  sub->add_option("--amplitude", c->amplitude, "bound of every joint's excursion [rad or m]")->default_val("0.9");
+  sub->add_option("--amplitude", c->amplitude,
+                  "bound of every joint's excursion [rad or m] about the middle of its URDF range; a joint whose "
+                  "<limit> range or velocity is smaller gets its excitation scaled to 95 % of it (a note says so), "
+                  "and a log beyond a position, velocity or effort limit is refused")
+      ->default_val("0.9");
+  sub->add_flag("--ignore-limits", c->ignore_limits,
+                "excite every joint about q = 0 with the full --amplitude, whatever the URDF's <limit>s say");
   sub->add_option("--noise-q", c->noise_q, "standard deviation of position noise [rad or m]")->default_val("0");
   sub->add_option("--noise-qd", c->noise_qd, "standard deviation of velocity noise")->default_val("0");
   sub->add_option("--noise-tau", c->noise_tau, "standard deviation of torque noise [N m or N]")->default_val("0");
@@ -72,7 +79,46 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
   return sub;
 }
 
-int RunSimulateCommand(const SimulateCommand& c) {
+namespace {
+
+// The numeric options of simulate, parsed (ParseSimulateSettings).
+struct SimulateSettings {
+  double perturb = 0, duration = 0, start_time = 0, rate = 0, base_frequency = 0, amplitude = 0;
+  SampleNoise noise;
+  int harmonics = 0;
+  std::uint64_t seed = 0, truth_seed = 0;
+  std::vector<double> effect_values;
+};
+
+int ParseSimulateSettings(const SimulateCommand& c, SimulateSettings* s) {
+  int status = ParseRealOption(c.perturb, "--perturb", 0.0, 5.0, &s->perturb);
+  if (status == kOk) status = ParseRealOption(c.duration, "--duration", 1e-3, 1e6, &s->duration);
+  if (status == kOk) status = ParseRealOption(c.start_time, "--start-time", -1e9, 1e9, &s->start_time);
+  if (status == kOk) status = ParseRealOption(c.rate, "--rate", 1.0, 1e6, &s->rate);
+  if (status == kOk) status = ParseInteger(c.harmonics, "--harmonics", 1, 100, &s->harmonics);
+  if (status == kOk) status = ParseRealOption(c.base_frequency, "--base-frequency", 1e-6, 1e3, &s->base_frequency);
+  if (status == kOk) status = ParseRealOption(c.amplitude, "--amplitude", 1e-9, 1e3, &s->amplitude);
+  if (status == kOk) status = ParseRealOption(c.noise_q, "--noise-q", 0.0, 1e6, &s->noise.q);
+  if (status == kOk) status = ParseRealOption(c.noise_qd, "--noise-qd", 0.0, 1e6, &s->noise.qd);
+  if (status == kOk) status = ParseRealOption(c.noise_tau, "--noise-tau", 0.0, 1e6, &s->noise.tau);
+  if (status == kOk) status = ParseInteger<std::uint64_t>(c.seed, "--seed", 0, UINT64_MAX, &s->seed);
+  if (status == kOk) status = ParseInteger<std::uint64_t>(c.truth_seed, "--truth-seed", 0, UINT64_MAX, &s->truth_seed);
+  if (status != kOk) return status;
+  try {
+    s->effect_values = ParseNumberList(c.effect_values, "--effect-values");
+  } catch (const InvalidNumber& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  if (s->effect_values.empty()) {
+    std::cerr << "Error: --effect-values: no value given\n";
+    return kUsage;
+  }
+  return kOk;
+}
+
+// The output files, checked before anything is simulated.
+int CheckSimulateOutputs(const SimulateCommand& c) {
   if (RefuseOverwritingInputs({{"--out", c.out}, {"--write-log", c.write_log}, {"--write-candump", c.write_candump},
                                {"--truth", c.truth}, {"--truth-urdf", c.truth_urdf}},
                               {{"--model", c.model}, {"--can-config", c.can_config}}) != kOk) {
@@ -86,117 +132,113 @@ int RunSimulateCommand(const SimulateCommand& c) {
     std::cerr << "Error: --write-candump and --can-config go together\n";
     return kUsage;
   }
-  std::optional<CanConfig> can;
-  if (!c.can_config.empty()) {
-    try {
-      can = LoadCanConfig(c.can_config);
-    } catch (const std::exception& e) {  // cannot be read, or not a valid motors.yaml: a file error
-      std::cerr << "Error: --can-config: " << e.what() << "\n";
-      return kIoError;
-    }
-  }
-  double perturb = 0, duration = 0, rate = 0, base_frequency = 0, amplitude = 0, noise_q = 0, noise_qd = 0, noise_tau = 0;
-  int harmonics = 0;
-  std::uint64_t seed = 0;
-  int status = ParseRealOption(c.perturb, "--perturb", 0.0, 5.0, &perturb);
-  if (status == kOk) status = ParseRealOption(c.duration, "--duration", 1e-3, 1e6, &duration);
-  double start_time = 0.0;
-  if (status == kOk) status = ParseRealOption(c.start_time, "--start-time", -1e9, 1e9, &start_time);
-  if (status == kOk) status = ParseRealOption(c.rate, "--rate", 1.0, 1e6, &rate);
-  if (status == kOk) status = ParseInteger(c.harmonics, "--harmonics", 1, 100, &harmonics);
-  if (status == kOk) status = ParseRealOption(c.base_frequency, "--base-frequency", 1e-6, 1e3, &base_frequency);
-  if (status == kOk) status = ParseRealOption(c.amplitude, "--amplitude", 1e-9, 1e3, &amplitude);
-  if (status == kOk) status = ParseRealOption(c.noise_q, "--noise-q", 0.0, 1e6, &noise_q);
-  if (status == kOk) status = ParseRealOption(c.noise_qd, "--noise-qd", 0.0, 1e6, &noise_qd);
-  if (status == kOk) status = ParseRealOption(c.noise_tau, "--noise-tau", 0.0, 1e6, &noise_tau);
-  if (status == kOk) status = ParseInteger<std::uint64_t>(c.seed, "--seed", 0, UINT64_MAX, &seed);
-  std::uint64_t truth_seed = 0;
-  if (status == kOk) status = ParseInteger<std::uint64_t>(c.truth_seed, "--truth-seed", 0, UINT64_MAX, &truth_seed);
-  if (status != kOk) return status;
-  std::vector<double> values;
-  try {
-    values = ParseNumberList(c.effect_values, "--effect-values");
-  } catch (const InvalidNumber& e) {
-    std::cerr << "Error: " << e.what() << "\n";
-    return kInvalidValue;
-  }
-  if (values.empty()) {
-    std::cerr << "Error: --effect-values: no value given\n";
-    return kUsage;
-  }
-  RobotModel robot;
-  try {
-    robot = LoadUrdf(c.model);
-  } catch (const UrdfError& e) {
-    std::cerr << "Error: " << e.what() << "\n";
-    return kIoError;
-  }
-  std::optional<RobotDynamics> model;
-  try {
-    model.emplace(MakeRobotDynamics(robot, ParseEffectList(c.effects)));
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --effects: " << e.what() << "\n";
-    return kUsage;
-  }
-  const int n_effect = model->num_features() - model->num_inertia_features();
+  return kOk;
+}
+
+// The true parameters: the effects' coefficients (cycled from --effect-values) and each link's
+// theta relative to its URDF body drawn uniform in [-P, P] (0: the URDF's bodies).
+int TrueParameters(const RobotDynamics& model, const SimulateSettings& s, Eigen::VectorXd* x) {
+  const int n_effect = model.num_features() - model.num_inertia_features();
   Eigen::VectorXd coefficients(n_effect);
-  for (int k = 0; k < n_effect; ++k) coefficients[k] = values[k % values.size()];
-  for (const EffectTerm& t : model->effects()) {
+  for (int k = 0; k < n_effect; ++k) coefficients[k] = s.effect_values[k % s.effect_values.size()];
+  for (const EffectTerm& t : model.effects()) {
     // Every coefficient is non-negative but an offset's and a spring's k q0.
     const int non_negative = t.kind == EffectKind::kOffset ? 0 : t.kind == EffectKind::kSpring ? 1 : t.size();
     for (int i = 0; i < non_negative; ++i) {
-      if (coefficients[t.first_feature + i - model->num_inertia_features()] < 0) {
+      if (coefficients[t.first_feature + i - model.num_inertia_features()] < 0) {
         std::cerr << "Error: --effect-values: " << ToString(t.kind) << "@" << t.joint << " must be >= 0\n";
         return kInvalidValue;
       }
     }
   }
-  Eigen::VectorXd x = model->ParametersFromEffectCoefficients(coefficients, 1e-300);
-  std::mt19937_64 rng(truth_seed);
-  std::uniform_real_distribution<double> uniform(-perturb, perturb);
-  for (int i = 0; i < 10 * static_cast<int>(model->bodies().size()); ++i) x[i] = perturb > 0 ? uniform(rng) : 0.0;
+  *x = model.ParametersFromEffectCoefficients(coefficients, 1e-300);
+  std::mt19937_64 rng(s.truth_seed);
+  std::uniform_real_distribution<double> uniform(-s.perturb, s.perturb);
+  for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) (*x)[i] = s.perturb > 0 ? uniform(rng) : 0.0;
+  return kOk;
+}
 
-  const Eigen::VectorXd w = model->Coefficients(x);  // once: the plant is called four times per RK4 step and DOF
-  const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-    return model->InverseDynamicsFromCoefficients(w, q, qd, qdd);
-  };
-  JointSimulationOptions options;
-  options.duration = duration;
-  options.start_time = start_time;
-  options.sample_rate_hz = rate;
-  options.internal_step = std::min(5e-4, 1.0 / rate);
-  const FourierTrajectory reference =
-      RandomFourierTrajectory(model->num_dofs(), harmonics, base_frequency, amplitude, seed);
-  // Tracking gains from the robot's own inertia (a 5 Hz, 0.7-damped loop per joint), so that
-  // light links do not make the fixed-step RK4 unstable.
-  try {
-    SetTrackingGainsFromInertia(plant, reference.Evaluate(0.0).q, 5.0, 0.7, &options);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: simulation failed: " << e.what() << "\n";
-    return kInvalidValue;
+// Fraction of every limit left free for the tracking error and for peaks between samples. The
+// tracking loop feeds the plant's own inverse dynamics forward, so it deviates only by the
+// zero-order hold of the command (a fraction of a percent of the excursion); 5 % is ample and
+// costs the excitation little.
+constexpr double kLimitMargin = 0.05;
+
+// The excitation of every joint, centred in its URDF position range and scaled (with a note on
+// stderr) to keep within its position and velocity limits unless --ignore-limits.
+FourierTrajectory Excitation(const RobotModel& robot, const RobotDynamics& model, const SimulateSettings& s,
+                             bool ignore_limits) {
+  FourierTrajectory reference =
+      RandomFourierTrajectory(model.num_dofs(), s.harmonics, s.base_frequency, s.amplitude, s.seed);
+  if (ignore_limits) return reference;
+  const int n = static_cast<int>(std::floor(s.duration * s.rate + 1e-9)) + 1;
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / s.rate).array() + s.start_time;
+  for (const LimitedExcitation& l : FitExcitationToLimits(robot.dof_limits, t, kLimitMargin, &reference)) {
+    const JointLimits& lim = robot.dof_limits[l.joint];
+    std::cerr << "note: joint '" << model.dof_names()[l.joint] << "': excitation scaled by " << l.scale << " to keep ";
+    if (l.kind == LimitKind::kVelocity) {
+      std::cerr << "|qd| within its velocity limit " << lim.velocity << "\n";
+    } else {
+      std::cerr << "q within its range [" << lim.lower << ", " << lim.upper << "]\n";
+    }
   }
-  JointSamples samples;
-  Progress progress("simulate");
-  options.progress = [&](double f) { progress.Fraction(f); };
-  try {
-    samples = SimulateTracking(plant, plant, [&](double t) { return reference.Evaluate(t); }, options,
-                               model->dof_names());
-    progress.Done();
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: simulation failed: " << e.what() << "\n";
-    return kInvalidValue;
-  }
-  // A diverged integration would still give id(q, qd, qdd) = tau, but nothing like the excitation.
+  return reference;
+}
+
+// A simulated log that left its excitation (a diverged integration) or a URDF limit is refused.
+int CheckSimulatedLog(const RobotModel& robot, const FourierTrajectory& reference, const JointSamples& samples,
+                      double amplitude, bool ignore_limits) {
   double worst_tracking = 0.0;
   for (int i = 0; i < samples.size(); ++i) {
-    worst_tracking = std::max(worst_tracking, (samples.q.row(i).transpose() - reference.Evaluate(samples.t[i]).q).cwiseAbs().maxCoeff());
+    worst_tracking = std::max(
+        worst_tracking, (samples.q.row(i).transpose() - reference.Evaluate(samples.t[i]).q).cwiseAbs().maxCoeff());
   }
   if (!(worst_tracking < 0.1 * amplitude)) {
     std::cerr << "Error: simulation failed: the robot left the excitation trajectory by " << worst_tracking
               << " (more than 10 % of --amplitude); try a smaller --perturb or a higher --rate\n";
     return kInvalidValue;
   }
-  samples = AddGaussianNoise(samples, SampleNoise{noise_q, noise_qd, 0.0, noise_tau}, seed + 1);
+  if (ignore_limits) return kOk;
+  if (const std::optional<LimitViolation> v = FirstLimitViolation(samples, robot.dof_limits)) {
+    const std::string joint = samples.joint_names[v->joint];
+    std::cerr << "Error: simulation refused: at t = " << v->time << " s joint '" << joint
+              << "' " << (v->kind == LimitKind::kPosition ? "is at q = " : v->kind == LimitKind::kVelocity ? "moves at qd = " : "needs tau = ")
+              << v->value << ", beyond its URDF " << ToString(v->kind) << " limit " << v->limit
+              << "; lower --amplitude or --base-frequency (or give --ignore-limits)\n";
+    return kInvalidValue;
+  }
+  return kOk;
+}
+
+// The robot tracking its excitation (RK4, computed-torque PD with gains from the robot's inertia).
+int Simulate(const RobotDynamics& model, const Eigen::VectorXd& x, const FourierTrajectory& reference,
+             const SimulateSettings& s, JointSamples* samples) {
+  const Eigen::VectorXd w = model.Coefficients(x);  // once: the plant is called four times per RK4 step and DOF
+  const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return model.InverseDynamicsFromCoefficients(w, q, qd, qdd);
+  };
+  JointSimulationOptions options;
+  options.duration = s.duration;
+  options.start_time = s.start_time;
+  options.sample_rate_hz = s.rate;
+  options.internal_step = std::min(5e-4, 1.0 / s.rate);
+  Progress progress("simulate");
+  options.progress = [&](double f) { progress.Fraction(f); };
+  try {
+    // Tracking gains from the robot's own inertia (a 5 Hz, 0.7-damped loop per joint), so that
+    // light links do not make the fixed-step RK4 unstable.
+    SetTrackingGainsFromInertia(plant, reference.Evaluate(0.0).q, 5.0, 0.7, &options);
+    *samples = SimulateTracking(plant, plant, [&](double t) { return reference.Evaluate(t); }, options,
+                                model.dof_names());
+    progress.Done();
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: simulation failed: " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  return kOk;
+}
+
+int WriteSamples(const SimulateCommand& c, const std::optional<CanConfig>& can, const JointSamples& samples) {
   try {
     if (!c.write_log.empty()) WriteJointStateLog(c.write_log, c.log_channel, samples, !c.positions_only);
     if (can) WriteMotorCandump(c.write_candump, "can0", *can, samples);
@@ -211,12 +253,12 @@ int RunSimulateCommand(const SimulateCommand& c) {
     if (c.out.empty()) {
       // only the LCM log
     } else if (c.positions_only) {
-      const int n = model->num_dofs();
+      const int n = static_cast<int>(samples.joint_names.size());
       Eigen::MatrixXd columns(samples.size(), 1 + 2 * n);
       columns << samples.t, samples.q, samples.tau;
       std::vector<std::string> header{"t"};
-      for (const std::string& j : model->dof_names()) header.push_back("q_" + j);
-      for (const std::string& j : model->dof_names()) header.push_back("tau_" + j);
+      for (const std::string& j : samples.joint_names) header.push_back("q_" + j);
+      for (const std::string& j : samples.joint_names) header.push_back("tau_" + j);
       WriteColumnsCsv(c.out, header, columns);
     } else {
       WriteJointCsv(c.out, samples);
@@ -225,49 +267,110 @@ int RunSimulateCommand(const SimulateCommand& c) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
   }
+  return kOk;
+}
+
+int WriteTruthJson(const std::string& path, const RobotDynamics& model, const Eigen::VectorXd& x) {
+  nlohmann::json j;
+  nlohmann::json bodies = nlohmann::json::array();
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const InertialParams b = model.BodyInertia(e, x);
+    bodies.push_back({{"name", model.bodies()[e].name},
+                      {"pi", std::vector<double>(b.vector().data(), b.vector().data() + 10)},
+                      {"theta", std::vector<double>(x.data() + 10 * e, x.data() + 10 * e + 10)}});
+  }
+  nlohmann::json effects = nlohmann::json::array();
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    effects.push_back({{"effect", std::string(ToString(model.effects()[k].kind))},
+                       {"joint", model.effects()[k].joint},
+                       {"values", model.EffectValues(k, x)}});
+  }
+  j["bodies"] = bodies;
+  j["effects"] = effects;
+  j["x"] = std::vector<double>(x.data(), x.data() + x.size());
+  errno = 0;
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  out.flush();
+  if (!out) {
+    std::cerr << "Error: --truth: " << CannotText("write", "", path) << "\n";
+    return kIoError;
+  }
+  return kOk;
+}
+
+int WriteTruth(const SimulateCommand& c, const RobotModel& robot, const RobotDynamics& model, const Eigen::VectorXd& x) {
   if (!c.truth_urdf.empty()) {
     try {
-      WriteModelUrdf(c.model, c.truth_urdf, robot, *model, SnapshotAt(*model, x),
+      WriteModelUrdf(c.model, c.truth_urdf, robot, model, SnapshotAt(model, x),
                      "the true model of `inertial simulate` (--perturb " + c.perturb + ", --truth-seed " + c.truth_seed + ")");
     } catch (const UrdfError& e) {
       std::cerr << "Error: " << e.what() << "\n";
       return kIoError;
     }
   }
-  if (!c.truth.empty()) {
-    nlohmann::json j;
-    nlohmann::json bodies = nlohmann::json::array();
-    for (int e = 0; e < static_cast<int>(model->bodies().size()); ++e) {
-      const InertialParams b = model->BodyInertia(e, x);
-      bodies.push_back({{"name", model->bodies()[e].name},
-                        {"pi", std::vector<double>(b.vector().data(), b.vector().data() + 10)},
-                        {"theta", std::vector<double>(x.data() + 10 * e, x.data() + 10 * e + 10)}});
-    }
-    nlohmann::json effects = nlohmann::json::array();
-    for (int k = 0; k < static_cast<int>(model->effects().size()); ++k) {
-      effects.push_back({{"effect", std::string(ToString(model->effects()[k].kind))},
-                         {"joint", model->effects()[k].joint},
-                         {"values", model->EffectValues(k, x)}});
-    }
-    j["bodies"] = bodies;
-    j["effects"] = effects;
-    j["x"] = std::vector<double>(x.data(), x.data() + x.size());
-    errno = 0;
-    std::ofstream out(c.truth);
-    out << j.dump(2) << "\n";
-    out.flush();
-    if (!out) {
-      std::cerr << "Error: --truth: " << CannotText("write", "", c.truth) << "\n";
+  return c.truth.empty() ? kOk : WriteTruthJson(c.truth, model, x);
+}
+
+int LoadSimulateInputs(const SimulateCommand& c, std::optional<CanConfig>* can, RobotModel* robot,
+                       std::optional<RobotDynamics>* model) {
+  if (!c.can_config.empty()) {
+    try {
+      *can = LoadCanConfig(c.can_config);
+    } catch (const std::exception& e) {  // cannot be read, or not a valid motors.yaml: a file error
+      std::cerr << "Error: --can-config: " << e.what() << "\n";
       return kIoError;
     }
   }
+  try {
+    *robot = LoadUrdf(c.model);
+  } catch (const UrdfError& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kIoError;
+  }
+  try {
+    model->emplace(MakeRobotDynamics(*robot, ParseEffectList(c.effects)));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+int RunSimulateCommand(const SimulateCommand& c) {
+  int status = CheckSimulateOutputs(c);
+  SimulateSettings s;
+  if (status == kOk) status = ParseSimulateSettings(c, &s);
+  std::optional<CanConfig> can;
+  RobotModel robot;
+  std::optional<RobotDynamics> model;
+  if (status == kOk) status = LoadSimulateInputs(c, &can, &robot, &model);
+  Eigen::VectorXd x;
+  if (status == kOk) status = TrueParameters(*model, s, &x);
+  if (status != kOk) return status;
+  FourierTrajectory reference;
+  try {
+    reference = Excitation(robot, *model, s, c.ignore_limits);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << c.model << ": " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  JointSamples samples;
+  status = Simulate(*model, x, reference, s, &samples);
+  if (status == kOk) status = CheckSimulatedLog(robot, reference, samples, s.amplitude, c.ignore_limits);
+  if (status != kOk) return status;
+  samples = AddGaussianNoise(samples, s.noise, s.seed + 1);
+  status = WriteSamples(c, can, samples);
+  if (status == kOk) status = WriteTruth(c, robot, *model, x);
+  if (status != kOk) return status;
   std::string written;
   for (const std::string* f : {&c.out, &c.write_log, &c.write_candump}) {
     if (!f->empty()) written += (written.empty() ? "" : " and ") + *f;
   }
-  std::cerr << "wrote " << written
-            << ": " << samples.size() << " samples of " << model->num_dofs() << " joints, "
-            << duration << " s at " << rate << " Hz\n";
+  std::cerr << "wrote " << written << ": " << samples.size() << " samples of " << model->num_dofs() << " joints, "
+            << s.duration << " s at " << s.rate << " Hz\n";
   return kOk;
 }
 

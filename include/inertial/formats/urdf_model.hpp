@@ -4,8 +4,12 @@
 /// What is read:
 /// - Joints `revolute` and `continuous` (both revolute), `prismatic` and `fixed`, with their
 ///   `<origin xyz rpy>` (rpy fixed-axis roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll)) and `<axis>`
-///   (any non-zero direction, normalized; URDF's default (1, 0, 0) when absent). Limits, dynamics,
-///   visuals and collisions are not used. Several branches (any tree) are fine.
+///   (any non-zero direction, normalized; URDF's default (1, 0, 0) when absent). Several branches (any
+///   tree) are fine. Visuals, collisions and safety controllers are not used.
+/// - `<limit lower upper velocity effort>` of the moving joints (RobotModel::dof_limits, what
+///   `simulate` keeps to): an absent attribute, and a velocity or effort of 0 (what exporters
+///   write for "unknown"), states no limit; a continuous joint's lower and upper are ignored.
+///   Unlike urdfdom (which reads an absent lower or upper as 0) nothing is invented.
 /// - `<inertial>`: mass, `<origin>` of the COM frame C in the link frame L and the inertia tensor
 ///   about the COM in C's axes (ixx .. izz are the tensor entries as written, ixy being the (0,1)
 ///   entry). It is converted exactly to pi about L's origin in L's axes: I_L = R_LC I_C R_LC^T, then
@@ -63,6 +67,7 @@
 
 #include "inertial/inertia/inertial_params.hpp"
 #include "inertial/model/joint_effect.hpp"
+#include "inertial/model/joint_limits.hpp"
 #include "inertial/model/kinematic_tree.hpp"
 
 namespace inertial {
@@ -95,6 +100,7 @@ struct RobotModel {
   std::vector<std::string> body_links;  ///< the URDF link name of each tree body
   std::vector<bool> body_has_inertial;  ///< some link merged into that body has an <inertial>
   std::vector<std::string> dof_names;   ///< the joint name of each DOF, in the tree's DOF order
+  std::vector<JointLimits> dof_limits;  ///< the <limit> of each DOF (infinite where none is stated)
   std::vector<UrdfLinkInertial> links;  ///< every link of the file, in file order
   std::map<std::string, LinkPlacement> placements;  ///< every link by name
   /// Every effect the file states, with its coefficients (see the file comment).
