@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "estimation/synthetic_regression.hpp"
 #include "inertial/estimation/linear_least_squares.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -19,21 +20,7 @@ namespace {
 
 using testing::RelativeError;
 using testing::Rng;
-
-// A well-excited regression: random twists and accelerations, exact wrenches of `body` plus noise.
-LinearRegression SyntheticRegression(Rng& rng, const InertialParams& body, int rows6, double noise) {
-  LinearRegression reg;
-  reg.A.resize(6 * rows6, 10);
-  reg.b.resize(6 * rows6);
-  for (int i = 0; i < rows6; ++i) {
-    const Matrix6x10 Y = RigidBodyRegressor(rng.UniformVector<6>(-2, 2), rng.UniformVector<6>(-2, 2));
-    reg.A.block<6, 10>(6 * i, 0) = Y;
-    Vector6 n;
-    for (int k = 0; k < 6; ++k) n[k] = rng.Normal(noise);
-    reg.b.segment<6>(6 * i) = Y * body.vector() + n;
-  }
-  return reg;
-}
+using testing::SyntheticRegression;
 
 Vector10 IdentityInertia() {
   Vector10 pi;
@@ -48,22 +35,6 @@ std::vector<std::unique_ptr<Parameterization>> AllParameterizations() {
   all.push_back(std::make_unique<ExponentialParameterization>());
   all.push_back(std::make_unique<LogCholeskyParameterization>());
   return all;
-}
-
-TEST(LinearLeastSquares, RecoversExactParametersWithoutNoise) {
-  Rng rng(1);
-  const InertialParams body = SolidBox(0.8, 0.2, 0.3, 0.4, Pose{rng.Rotation(), Vector3(0.1, 0.2, -0.1)});
-  const LinearLeastSquaresResult r = SolveLinearLeastSquares(SyntheticRegression(rng, body, 30, 0.0));
-  EXPECT_EQ(r.rank, 10);
-  EXPECT_LT(RelativeError(r.pi, body.vector()), 1e-12);
-  EXPECT_LT(r.cost, 1e-20);
-}
-
-TEST(LinearLeastSquares, RejectsMismatchedSizes) {
-  LinearRegression reg;
-  reg.A.resize(12, 10);
-  reg.b.resize(6);
-  EXPECT_THROW(SolveLinearLeastSquares(reg), std::invalid_argument);
 }
 
 // Every parameterization, started from the identity inertia, reaches the exact body on noise-free

@@ -1,6 +1,5 @@
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/estimation/log_differentiation.hpp"
-#include "inertial/formats/body_csv.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,12 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "formats/time_stamps.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
 namespace {
 
 using testing::Rng;
+using testing::Stamps;
 
 const std::vector<std::string> kJoints{"j1", "j2"};
 
@@ -456,16 +457,6 @@ std::string StampedLog(const std::vector<std::string>& stamps) {
   return text;
 }
 
-std::vector<std::string> Stamps(double start, double step, int count, const char* format = "%.17g") {
-  std::vector<std::string> out;
-  char cell[64];
-  for (int i = 0; i < count; ++i) {
-    std::snprintf(cell, sizeof(cell), format, start + step * i);
-    out.push_back(cell);
-  }
-  return out;
-}
-
 TEST(JointCsv, ReportsTheFileLineOfEverySample) {
   const std::string text = std::string(kHeader) +
                            "0,1,2,3,4,5,6,7,8\n"        // line 2
@@ -579,35 +570,6 @@ TEST(JointCsv, TimeScaleThatLeavesAnImplausibleStepIsRefused) {
   options.time_scale = -1.0;
   std::istringstream in(StampedLog({"0.001", "0.002"}));
   EXPECT_THROW(ParseJointCsv(in, "log.csv", kJoints, options), std::invalid_argument);
-}
-
-// The single-body CSV checks its time stamps the same way.
-TEST(BodyCsv, TimeStampsThatAreNotSecondsAreRefusedOrScaled) {
-  auto body = [](const std::vector<std::string>& stamps) {
-    std::string text = "wx,wy,wz,vx,vy,vz,mx,my,mz,fx,fy,fz,t\n";
-    for (const std::string& t : stamps) text += "0.1,0.2,0.3,0,0,0,0,0,0,0,0,-9.81," + t + "\n";
-    return text;
-  };
-  {
-    std::istringstream in(body(Stamps(1700000000000.0, 10.0, 4, "%.0f")));
-    try {
-      ParseBodyCsv(in, "body.csv");
-      ADD_FAILURE() << "no error";
-    } catch (const CsvError& e) {
-      EXPECT_EQ(std::string(e.what()),
-                "body.csv: column 13 't': the time stamps do not look like seconds: median step 10 (as seconds, slower "
-                "than 1 Hz), every stamp an integer; if they are milliseconds, give --time-scale 1e-3 (a median step of "
-                "0.01 s)");
-    }
-  }
-  std::istringstream in(body(Stamps(1700000000000.0, 10.0, 4, "%.0f")));
-  const BodyLog log = ParseBodyCsv(in, "body.csv", nullptr, 1e-3);
-  ASSERT_EQ(log.samples.size(), 4u);
-  EXPECT_NEAR(log.samples[3].t - log.samples[0].t, 0.03, 5e-7);  // doubles near 1.7e9 s: 2.4e-7 s apart
-  std::istringstream seconds(body(Stamps(0.0, 0.1, 4)));
-  EXPECT_EQ(ParseBodyCsv(seconds, "body.csv").samples[1].t, 0.1);
-  std::istringstream negative(body(Stamps(0.0, 0.1, 4)));
-  EXPECT_THROW(ParseBodyCsv(negative, "body.csv", nullptr, -1e-3), std::invalid_argument);
 }
 
 TEST(JointCsv, ReadsTheKukaMeasurements) {

@@ -69,13 +69,5 @@ TEST(RigidBodyRegressor, InertiaTimesVectorMapIsExact) {
   EXPECT_LT(RelativeError(InertiaTimesVectorMap(x) * body.vector().tail<6>(), body.rotational_inertia_about_origin() * x), 1e-15);
 }
 
-TEST(SpatialAlgebra, ForceCrossIsMinusTransposedMotionCross) {
-  Rng rng(4);
-  const Vector6 xi = rng.UniformVector<6>(-1.0, 1.0);
-  EXPECT_LT(RelativeError(ForceCross(xi), Matrix6(-MotionCross(xi).transpose())), 1e-16);
-  // xi x xi = 0.
-  EXPECT_LT((MotionCross(xi) * xi).norm(), 1e-15);
-}
-
 }  // namespace
 }  // namespace inertial

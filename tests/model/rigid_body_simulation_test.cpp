@@ -5,19 +5,14 @@
 #include <cmath>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
-#include "inertial/model/midpoint_regression.hpp"
+#include "model/sample_times.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
 namespace {
 
 using testing::Rng;
-
-std::vector<double> Times(double dt, double end) {
-  std::vector<double> t;
-  for (int k = 0; k * dt <= end + 1e-12; ++k) t.push_back(k * dt);
-  return t;
-}
+using testing::Times;
 
 // Torque-free axisymmetric body about its COM (I1 = I2 != I3): omega_z is constant and
 // (omega_x, omega_y) rotates at Omega = (I3 - I1) / I1 omega_z (Euler's equations, closed form).
@@ -77,53 +72,6 @@ TEST(RigidBodySimulation, EnergyAndMomentumBehaveAsPhysicsSays) {
     const double dE = KineticEnergy(body, driven.twists.back()) - KineticEnergy(body, xi0);
     EXPECT_NEAR(dE, work, 1e-7 * (1.0 + std::abs(work)));
   }
-}
-
-// Eq. (13) is second order: on exact (simulated, noise-free) data the residual at the true pi
-// falls by about 4x when the sample interval halves.
-TEST(MidpointRegression, ResidualIsSecondOrderInTheSampleInterval) {
-  const InertialParams body = SolidBox(0.7, 0.3, 0.5, 0.8, Pose{Matrix3::Identity(), Vector3(0.1, -0.2, 0.05)});
-  auto wrench = [](double s) {
-    Vector6 w;
-    for (int k = 0; k < 6; ++k) w[k] = std::sin(s + k * M_PI / 3);
-    return w;
-  };
-  double previous = 0.0;
-  for (double dt : {0.05, 0.025, 0.0125}) {
-    const std::vector<double> t = Times(dt, 2.0);
-    const SimulationResult sim = SimulateRigidBody(body, Vector6::Zero(), wrench, t);
-    std::vector<TwistWrenchSample> samples;
-    for (std::size_t k = 0; k < t.size(); ++k) samples.push_back({t[k], sim.twists[k], wrench(t[k])});
-    const LinearRegression reg = BuildMidpointRegression(samples);
-    const double rms = std::sqrt((reg.A * body.vector() - reg.b).squaredNorm() / reg.b.size());
-    if (previous > 0.0) {
-      EXPECT_GT(previous / rms, 3.5) << "dt " << dt;
-      EXPECT_LT(previous / rms, 4.5) << "dt " << dt;
-    }
-    previous = rms;
-  }
-}
-
-TEST(MidpointRegression, RejectsBadSamplesNamingThem) {
-  std::vector<TwistWrenchSample> samples(3);
-  samples[0].t = 0.0;
-  samples[1].t = 0.1;
-  samples[2].t = 0.1;
-  try {
-    BuildMidpointRegression(samples);
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("sample 2: time 0.1"), std::string::npos) << e.what();
-  }
-  samples[2].t = 0.2;
-  samples[1].wrench[3] = std::nan("");
-  try {
-    BuildMidpointRegression(samples);
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("sample 1: non-finite"), std::string::npos) << e.what();
-  }
-  EXPECT_THROW(BuildMidpointRegression(std::vector<TwistWrenchSample>(1)), std::invalid_argument);
 }
 
 }  // namespace

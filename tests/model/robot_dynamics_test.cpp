@@ -52,43 +52,6 @@ LinkResolver ChainLinks(const SpatialTransform& tool_in_l2) {
 
 const std::vector<std::string> kJoints = {"j0", "j1", "j2"};
 
-TEST(EffectList, ParsesKindsTargetsAndOptions) {
-  const std::vector<EffectSpec> e =
-      ParseEffectList("viscous, coulomb@j1:scale=0.05,payload@tool:mass=2:radius=0.1,rotor@j0:gear=-6.5");
-  ASSERT_EQ(e.size(), 4u);
-  EXPECT_EQ(e[0].kind, EffectKind::kViscous);
-  EXPECT_TRUE(e[0].target.empty());
-  EXPECT_EQ(e[1].kind, EffectKind::kCoulomb);
-  EXPECT_EQ(e[1].target, "j1");
-  EXPECT_DOUBLE_EQ(e[1].velocity_scale, 0.05);
-  EXPECT_DOUBLE_EQ(e[2].mass, 2.0);
-  EXPECT_DOUBLE_EQ(e[2].radius, 0.1);
-  EXPECT_DOUBLE_EQ(e[3].gear_ratio, -6.5);
-  EXPECT_TRUE(ParseEffectList("").empty());
-}
-
-TEST(EffectList, RejectsMalformedItemsNamingThem) {
-  auto message = [](const std::string& text) {
-    try {
-      ParseEffectList(text);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message("friction").find("unknown kind 'friction'"), std::string::npos);
-  EXPECT_NE(message("payload").find("needs a target"), std::string::npos);
-  EXPECT_NE(message("rotor@knee").find("gear ratio"), std::string::npos);
-  EXPECT_NE(message("coulomb:scale=abc").find("'abc' is not a number"), std::string::npos);
-  EXPECT_NE(message("coulomb:scale=-1").find("must be positive"), std::string::npos);
-  EXPECT_NE(message("viscous:scale=1").find("unknown option 'scale'"), std::string::npos);
-  EXPECT_NE(message("viscous,,offset").find("empty item"), std::string::npos);
-  EXPECT_NE(message("viscous@").find("empty target"), std::string::npos);
-  EXPECT_NE(message("sigmoid:steepness=0").find("must be positive"), std::string::npos);
-  EXPECT_NE(message("sigmoid:shift=x").find("'x' is not a number"), std::string::npos);
-  EXPECT_NE(message("asymmetric:shift=0.1").find("unknown option 'shift'"), std::string::npos);
-}
-
 // Without effects and at x = 0 (the prior), the model is the tree's own inverse dynamics.
 TEST(RobotDynamics, PriorWithoutEffectsIsTheTreesInverseDynamics) {
   Rng rng(21);

@@ -211,22 +211,6 @@ TEST(EstimationDaemon, PublishesAResidualPerSample) {
   }
 }
 
-// The queue itself: fixed capacity, a push into a full queue refused (the daemon counts it as a
-// drop), order kept, a pop that times out.
-TEST(BoundedQueue, RefusesWhenFullAndKeepsOrder) {
-  BoundedQueue<int> q(4, 0);
-  for (int i = 0; i < 4; ++i) EXPECT_TRUE(q.TryPush(i));
-  EXPECT_FALSE(q.TryPush(99));
-  EXPECT_EQ(q.size(), 4u);
-  int v = -1;
-  for (int i = 0; i < 4; ++i) {
-    ASSERT_TRUE(q.PopWait(&v, std::chrono::milliseconds(0)));
-    EXPECT_EQ(v, i);
-  }
-  EXPECT_FALSE(q.PopWait(&v, std::chrono::milliseconds(5)));
-  EXPECT_TRUE(q.TryPush(7));
-}
-
 // A queue of 8 and a burst of 2000 messages already waiting when the daemon starts: none is lost
 // from the books (received = accepted + rejected + dropped) and the estimator kept working. (How
 // many are dropped depends on the two threads' speeds, so it is not asserted; the queue's refusal
