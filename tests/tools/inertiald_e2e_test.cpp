@@ -96,7 +96,10 @@ cd ")" + dir.string() + R"("
 ")" + ip + R"(" route add 224.0.0.0/4 dev lo
 URL="udpm://239.255.76.67:7667?ttl=0"
 LCM_DEFAULT_URL="$URL" ")" + logger + R"(" -q -f -c INERTIAL_JOINT_STATE\|INERTIAL_ESTIMATE recorded.lcm & LOGGER=$!
-start() { ")" + daemon + R"(" --model ")" + leg + R"(" --checkpoint state.json --checkpoint-interval 0.5 --publish-rate 20 --noise-tau 0.3 --lcm-url "$URL" 2>> daemon$1.err & DAEMON=$!; sleep 0.7; }
+start() { ")" + daemon + R"(" --model ")" + leg + R"(" --checkpoint state.json --checkpoint-interval 0.5 --publish-rate 20 --noise-tau 0.3 --lcm-url "$URL" 2>> daemon$1.err & DAEMON=$!; ready $1; }
+# Ready once it says it listens (subscribed, receiver running): a fixed sleep lost the first message
+# of a part on a loaded machine (sanitizer build, other jobs); give up after 30 s.
+ready() { for i in $(seq 600); do grep -q 'listening on' daemon$1.err && break; sleep 0.05; done; sleep 0.1; }
 play() { ")" + player + R"(" -s 4 -l "$URL" "$1" > /dev/null; }
 start 1; play part0.lcm; sleep 0.3
 kill -TERM $DAEMON; wait $DAEMON; echo "sigterm $?"
