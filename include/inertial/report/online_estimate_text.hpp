@@ -1,0 +1,18 @@
+/// @file online_estimate_text.hpp
+/// The online estimator's current estimate as text, one line per body of its model: mass and COM,
+/// with the standard deviations of the estimator's covariance where it keeps one
+/// (uncertainty_report.hpp). What `inertial replay` prints as its final estimate.
+#pragma once
+
+#include <string>
+
+#include "inertial/estimation/online_joint_estimator.hpp"
+
+namespace inertial {
+
+/// "final estimate:\n" then "  <body>: mass <m> kg, COM [<x> <y> <z>] m\n" per body; for an
+/// estimator with a covariance "final estimate (+- one standard deviation <source>):\n" then
+/// "  <body>: <BodyUncertaintyText>\n". Numbers as an ostream prints them (6 significant digits).
+std::string OnlineEstimateText(const OnlineJointEstimator& estimator);
+
+}  // namespace inertial
