@@ -148,20 +148,14 @@ int SplitOrFail(const std::string& data, double holdout, const Log& all, Log* tr
   return kOk;
 }
 
-int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations, double time_scale,
-            int folds) {
-  std::vector<BodyEffectKind> effects;
-  try {
-    effects = ParseBodyEffectList(c.effects);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --effects: " << e.what() << "\n";
-    return kUsage;
-  }
+// --prior: the pi of a fully consistent body (default 1 kg, 1 kg m^2: the paper's); kOk, or the
+// exit code (the error printed).
+int ReadBodyPrior(const std::string& text, InertialParams* prior) {
   Vector10 prior_pi;
   prior_pi << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0;
-  if (!c.prior.empty()) {
+  if (!text.empty()) {
     try {
-      const std::vector<double> v = ParseNumberList(c.prior, "--prior");
+      const std::vector<double> v = ParseNumberList(text, "--prior");
       if (v.size() != 10) {
         std::cerr << "Error: --prior: " << v.size() << " numbers given, 10 expected (pi)\n";
         return kUsage;
@@ -172,39 +166,58 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
       return kInvalidValue;
     }
   }
-  const InertialParams prior = InertialParams::FromVector(prior_pi);
-  const ConsistencyReport report = CheckConsistency(prior);
+  *prior = InertialParams::FromVector(prior_pi);
+  const ConsistencyReport report = CheckConsistency(*prior);
   if (!report.fully_consistent()) {
     std::cerr << "Error: --prior: not physically consistent: " << report.reason << "\n";
     return kInconsistentBody;
   }
-  BodyLog all, train, validation;
-  std::string source;
+  return kOk;
+}
+
+// --data and --validate of single-body data, their glitches left out (named in *left_out); with
+// --validate, *train is --data and *source names it. kOk, or the exit code (the error printed).
+int ReadBodyLogs(const DiagnoseCommand& c, double time_scale, BodyLog* all, BodyLog* train, BodyLog* validation,
+                 std::string* source, std::vector<std::string>* left_out) {
   try {
     std::vector<std::string> notices;
-    all = ReadBodyCsv(c.data, &notices, time_scale);
+    *all = ReadBodyCsv(c.data, &notices, time_scale);
     if (!c.validate.empty()) {
-      validation = ReadBodyCsv(c.validate, &notices, time_scale);
-      train = all;
-      source = c.validate;
+      *validation = ReadBodyCsv(c.validate, &notices, time_scale);
+      *source = c.validate;
     }
     for (const std::string& n : notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
   }
-  std::vector<std::string> left_out;
-  LeaveOutGlitches(c.data, &all, &left_out);
+  LeaveOutGlitches(c.data, all, left_out);
   if (!c.validate.empty()) {
-    train = all;
-    LeaveOutGlitches(c.validate, &validation, &left_out);
+    *train = *all;
+    LeaveOutGlitches(c.validate, validation, left_out);
   }
+  return kOk;
+}
+
+int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations, double time_scale,
+            int folds) {
+  std::vector<BodyEffectKind> effects;
+  try {
+    effects = ParseBodyEffectList(c.effects);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --effects: " << e.what() << "\n";
+    return kUsage;
+  }
+  BodyDiagnosisContext context;
+  int status = ReadBodyPrior(c.prior, &context.prior);
+  BodyLog all, train, validation;
+  if (status == kOk) status = ReadBodyLogs(c, time_scale, &all, &train, &validation, &context.validation_source, &context.left_out);
   const bool cross_validate = c.validate.empty() && c.holdout.empty();
-  if (c.validate.empty() && !cross_validate) {
-    const int split = SplitOrFail(c.data, holdout, all, &train, &validation);
-    if (split != kOk) return split;
-    source = HoldoutSource(c.data, holdout);
+  if (status == kOk && c.validate.empty() && !cross_validate) {
+    status = SplitOrFail(c.data, holdout, all, &train, &validation);
+    context.validation_source = HoldoutSource(c.data, holdout);
   }
+  if (status != kOk) return status;
   BodyDiagnosisOptions options;
   options.min_explained = min_explained;
   options.fit.max_iterations = max_iterations;
@@ -212,23 +225,19 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   BodyDiagnosis d;
   try {
     if (cross_validate) {
-      d = DiagnoseBodyModelCrossValidated(prior, effects, all, options);
+      d = DiagnoseBodyModelCrossValidated(context.prior, effects, all, options);
       validation = all;
-      source = std::to_string(folds) + "-fold blocked cross-validation of " + c.data;
+      context.validation_source = std::to_string(folds) + "-fold blocked cross-validation of " + c.data;
     } else {
-      d = DiagnoseBodyModel(prior, effects, train, validation, options);
+      d = DiagnoseBodyModel(context.prior, effects, train, validation, options);
     }
   } catch (const std::invalid_argument& e) {
     std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
     return kInvalidValue;
   }
-  BodyDiagnosisContext context;
   context.diagnosis = &d;
   context.validation = &validation;
-  context.prior = prior;
-  context.validation_source = source;
   context.min_explained = min_explained;
-  context.left_out = left_out;
   const std::string text = BodyDiagnosisText(context);
   if (c.json) {
     std::cout << BodyDiagnosisJson(context).dump(2) << "\n";
@@ -236,6 +245,46 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
     std::cout << text;
   }
   return WriteReport(c.report_dir, [&] { WriteBodyDiagnosisReport(c.report_dir, context, text); });
+}
+
+// The robot options (the defaults where not given); kOk, or the exit code (the error printed).
+int ParseRobotOptions(const DiagnoseCommand& c, JointDiagnosisOptions* options, JointCsvOptions* csv, int* iterate,
+                      Vector3* gravity) {
+  auto or_default = [](const std::string& text, const char* fallback) { return text.empty() ? std::string(fallback) : text; };
+  int status = ParseRealOption(or_default(c.prior_weight, "0.01"), "--prior-weight", 0.0, 1e12, &options->fit.prior_weight);
+  if (status == kOk) status = ParseInteger(or_default(c.sg_order, "4"), "--sg-order", 2, 10, &csv->differentiation.order);
+  if (status == kOk) {
+    status = ParseRealOption(or_default(c.sg_window, "0.1"), "--sg-window", 1e-6, 1e6, &csv->differentiation.window);
+  }
+  if (status == kOk) status = ParseInteger(or_default(c.threads, "0"), "--threads", 0, 256, &options->threads);
+  if (status == kOk && !c.prior_tolerance.empty()) {
+    status = ParseRealOption(c.prior_tolerance, "--prior-tolerance", 1e-6, 1e6, &options->prior_tolerance);
+  }
+  if (status == kOk) status = ParseInteger(or_default(c.iterate, "0"), "--iterate", 0, 1000, iterate);
+  if (status == kOk) status = ParseGravityOption(or_default(c.gravity, "0 0 -9.81"), gravity);
+  return status;
+}
+
+// The robot's training and held-out logs (--validate, or the last `holdout` of --data), rows no
+// statistic can use left out; *source names the held-out data. kOk, or the exit code (printed).
+int ReadRobotLogs(const DiagnoseCommand& c, const RobotModel& robot, const JointCsvOptions& csv, double holdout,
+                  const RobotDynamics& links, JointSamples* train, JointSamples* validation, std::string* source) {
+  JointSamples all;
+  int status = ReadRobotLog(c.data, robot, csv, &all);
+  if (status == kOk && !c.validate.empty()) {
+    status = ReadRobotLog(c.validate, robot, csv, validation);
+    *train = std::move(all);
+    *source = c.validate;
+  }
+  if (status != kOk) return status;
+  if (c.validate.empty()) {
+    status = SplitOrFail(c.data, holdout, all, train, validation);
+    if (status != kOk) return status;
+    *source = HoldoutSource(c.data, holdout);
+  }
+  status = LeaveOutUnusableRows(links, c.data, train);
+  if (status == kOk) status = LeaveOutUnusableRows(links, c.validate.empty() ? c.data : c.validate, validation);
+  return status;
 }
 
 int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int max_iterations, double time_scale) {
@@ -246,50 +295,21 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;
   csv.time_scale = time_scale;
-  auto or_default = [](const std::string& text, const char* fallback) { return text.empty() ? std::string(fallback) : text; };
-  int status = ParseRealOption(or_default(c.prior_weight, "0.01"), "--prior-weight", 0.0, 1e12, &options.fit.prior_weight);
-  if (status == kOk) status = ParseInteger(or_default(c.sg_order, "4"), "--sg-order", 2, 10, &csv.differentiation.order);
-  if (status == kOk) {
-    status = ParseRealOption(or_default(c.sg_window, "0.1"), "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
-  }
-  if (status == kOk) status = ParseInteger(or_default(c.threads, "0"), "--threads", 0, 256, &options.threads);
-  if (status == kOk && !c.prior_tolerance.empty()) {
-    status = ParseRealOption(c.prior_tolerance, "--prior-tolerance", 1e-6, 1e6, &options.prior_tolerance);
-  }
   int iterate = 0;
-  if (status == kOk) status = ParseInteger(or_default(c.iterate, "0"), "--iterate", 0, 1000, &iterate);
   Vector3 gravity;
-  if (status == kOk) status = ParseGravityOption(or_default(c.gravity, "0 0 -9.81"), &gravity);
-  if (status != kOk) return status;
+  int status = ParseRobotOptions(c, &options, &csv, &iterate, &gravity);
   RobotModel robot;
   std::vector<EffectSpec> effects;
   std::optional<RobotDynamics> model;
-  status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
+  if (status == kOk) status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
   if (status != kOk) return status;
-  JointSamples all, train, validation;
-  status = ReadRobotLog(c.data, robot, csv, &all);
-  std::string source;
-  if (status == kOk && !c.validate.empty()) {
-    status = ReadRobotLog(c.validate, robot, csv, &validation);
-    train = std::move(all);
-    source = c.validate;
-  }
-  if (status != kOk) return status;
-  if (c.validate.empty()) {
-    const int split = SplitOrFail(c.data, holdout, all, &train, &validation);
-    if (split != kOk) return split;
-    source = HoldoutSource(c.data, holdout);
-  }
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
     return MakeRobotDynamics(robot, e, gravity);
   };
-  {
-    const RobotDynamics links = make({});
-    const int t = LeaveOutUnusableRows(links, c.data, &train);
-    if (t != kOk) return t;
-    const int v = LeaveOutUnusableRows(links, c.validate.empty() ? c.data : c.validate, &validation);
-    if (v != kOk) return v;
-  }
+  JointSamples train, validation;
+  std::string source;
+  status = ReadRobotLogs(c, robot, csv, holdout, make({}), &train, &validation, &source);
+  if (status != kOk) return status;
   std::vector<DiagnosisStep> path;
   JointDiagnosis d;
   try {

@@ -1,10 +1,6 @@
 // `inertial identify`: batch identification of a URDF robot from joint logs (eq. 14).
-#include <cmath>
-#include <cstdlib>
 #include <iostream>
-#include <map>
 #include <optional>
-#include <set>
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
@@ -12,6 +8,9 @@
 #include "inertial/report/identification_report.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/formats/model_file.hpp"
+#include "inertial/formats/sample_line_names.hpp"
+#include "inertial/formats/torque_predictions.hpp"
+#include "inertial/report/fit_failure_text.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
@@ -59,110 +58,58 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
 
 namespace {
 
-// Writes the identified model as a model file (model_file.hpp): links, every effect, rotors and
-// payloads, so that `validate --model` of it predicts what the fit predicts.
-void WriteIdentifiedUrdf(const IdentifyCommand& c, const RobotModel& robot, const RobotDynamics& model,
-                         const IdentificationRun& run) {
-  ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
-  if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
-  WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + c.data);
-  std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()
-            << " joint effect terms\n";
-}
-
-}  // namespace
-
-int RunIdentifyCommand(const IdentifyCommand& c) {
-  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--write-urdf", c.write_urdf}},
-                                       {{"--model", c.model}, {"--data", c.data}, {"--validate", c.validate}});
-  if (status != kOk) return status;
-  JointIdentificationOptions options;
-  JointCsvOptions csv;
-  csv.skip_bad_rows = c.skip_bad_rows;
-  status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options.prior_weight);
-  if (status == kOk) status = ParseInteger(c.max_iterations, "--max-iterations", 1, 100000, &options.lm.max_iterations);
-  if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv.differentiation.order);
-  if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv.differentiation.window);
+// The fit's, the logs' and the outlier screening's settings; kOk, or the exit code (the error printed).
+int ParseIdentifyOptions(const IdentifyCommand& c, JointIdentificationOptions* options, JointCsvOptions* csv,
+                         OutlierOptions* outliers) {
+  csv->skip_bad_rows = c.skip_bad_rows;
+  int status = ParseRealOption(c.prior_weight, "--prior-weight", 0.0, 1e12, &options->prior_weight);
+  if (status == kOk) status = ParseInteger(c.max_iterations, "--max-iterations", 1, 100000, &options->lm.max_iterations);
+  if (status == kOk) status = ParseInteger(c.sg_order, "--sg-order", 2, 10, &csv->differentiation.order);
+  if (status == kOk) status = ParseRealOption(c.sg_window, "--sg-window", 1e-6, 1e6, &csv->differentiation.window);
   if (status == kOk && !c.time_scale.empty()) {
-    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &csv.time_scale);
+    status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &csv->time_scale);
   }
-  OutlierOptions outliers;
-  outliers.enabled = !c.no_outlier_rejection;
-  if (status == kOk) status = ParseRealOption(c.outlier_threshold, "--outlier-threshold", 0.0, 1e6, &outliers.threshold);
-  if (status == kOk && outliers.threshold > 0 && outliers.threshold < 3) {
+  outliers->enabled = !c.no_outlier_rejection;
+  if (status == kOk) status = ParseRealOption(c.outlier_threshold, "--outlier-threshold", 0.0, 1e6, &outliers->threshold);
+  if (status == kOk && outliers->threshold > 0 && outliers->threshold < 3) {
     std::cerr << "Error: --outlier-threshold: " << c.outlier_threshold
               << " robust standard deviations would leave out good rows (a Gaussian residual exceeds 3 once in 370); "
                  "give 3 or more, or 0 for the automatic choice\n";
     status = kUsage;
   }
-  if (status != kOk) return status;
-  Vector3 gravity;
-  status = ParseGravityOption(c.gravity, &gravity);
-  if (status != kOk) return status;
-  RobotModel robot;
-  std::vector<EffectSpec> effects;
-  std::optional<RobotDynamics> model;
-  status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
-  if (status != kOk) return status;
-  JointSamples train, validation;
-  std::vector<int> train_lines;
-  status = ReadRobotLog(c.data, robot, csv, &train, &train_lines);
-  if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
-  if (status != kOk) return status;
-  if (train.size() < 2) {
-    std::cerr << "Error: " << c.data << ": " << train.size() << " samples; identification needs more\n";
-    return kInvalidValue;
-  }
+  return status;
+}
 
-  IdentificationRun run;
+// Fits with its progress on stderr; kInvalidValue (the error printed) if there is nothing to fit.
+int Fit(const std::string& data, const RobotDynamics& model, const JointSamples& train, const JointSamples* validation,
+        JointIdentificationOptions options, const OutlierOptions& outliers, IdentificationRun* run) {
   try {
     Progress progress("identify");
     options.lm.progress = [&](int iteration, double cost) {
       progress.Show("iteration " + std::to_string(iteration) + ", cost " + std::to_string(cost));
     };
-    run = RunIdentification(*model, train, c.validate.empty() ? nullptr : &validation, options, outliers);
+    *run = RunIdentification(model, train, validation, options, outliers);
     progress.Done();
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    std::cerr << "Error: " << data << ": " << e.what() << "\n";
     return kInvalidValue;
   }
-  // Rejected rows named by their line in the file.
-  for (std::string& reason : run.outliers.reasons) {
-    const std::size_t at = reason.find("sample ");
-    if (at == std::string::npos) continue;
-    const int i = std::atoi(reason.c_str() + at + 7);
-    if (i >= 0 && i < static_cast<int>(train_lines.size())) reason = c.data + ":" + std::to_string(train_lines[i]) + ": " + reason;
-  }
-  if (run.failed()) {
-    std::cerr << "Error: " << c.data << ": the fit failed numerically (stopped on " << ToString(run.fit.lm.reason)
-              << (std::isfinite(run.fit.data_cost) ? "" : ", non-finite cost") << ")";
-    const std::vector<std::string> extremes = DescribeExtremeValues(train);
-    if (extremes.empty()) {
-      std::cerr << "; no value of the data stands out: check units (--time-scale) and the model\n";
-    } else {
-      std::cerr << ": the data hold values no sensor reading can have:\n";
-      for (const std::string& e : extremes) std::cerr << "  " << e << "\n";
-      std::cerr << (c.no_outlier_rejection ? "hint: without --no-outlier-rejection such rows are left out\n"
-                                           : "hint: fix or remove these rows (--skip-bad-rows skips malformed ones)\n");
-    }
-    return kInvalidValue;
-  }
-  if (c.json) {
-    std::cout << IdentificationJson(*model, run).dump(2) << "\n";
-  } else {
-    std::cout << IdentificationText(*model, run);
-  }
+  return kOk;
+}
+
+// --predictions (of `predicted`) and --write-urdf: the identified model as a model file
+// (model_file.hpp), so that `validate --model` of it predicts what the fit predicts. kOk, or the
+// exit code (the error printed).
+int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotDynamics& model,
+                 const IdentificationRun& run, const JointSamples& predicted) {
   try {
-    if (!c.predictions.empty()) {
-      const JointSamples& data = c.validate.empty() ? train : validation;
-      const Eigen::MatrixXd tau = PredictJointTorques(*model, run.fit.x, data);
-      Eigen::MatrixXd columns(data.size(), 1 + model->num_dofs());
-      columns << data.t, tau;
-      std::vector<std::string> header{"t"};
-      for (const std::string& j : model->dof_names()) header.push_back("tau_hat_" + j);
-      WriteColumnsCsv(c.predictions, header, columns);
-    }
-    if (!c.write_urdf.empty()) WriteIdentifiedUrdf(c, robot, *model, run);
+    if (!c.predictions.empty()) WriteTorquePredictions(c.predictions, model, run.fit.x, predicted);
+    if (c.write_urdf.empty()) return kOk;
+    ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
+    if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
+    WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + c.data);
+    std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()
+              << " joint effect terms\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
@@ -170,11 +117,52 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
     std::cerr << "Error: " << e.what() << "\n";
     return kIoError;
   }
-  if (!run.fit.lm.converged()) {
+  return kOk;
+}
+
+}  // namespace
+
+int RunIdentifyCommand(const IdentifyCommand& c) {
+  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--write-urdf", c.write_urdf}},
+                                       {{"--model", c.model}, {"--data", c.data}, {"--validate", c.validate}});
+  JointIdentificationOptions options;
+  JointCsvOptions csv;
+  OutlierOptions outliers;
+  if (status == kOk) status = ParseIdentifyOptions(c, &options, &csv, &outliers);
+  Vector3 gravity;
+  if (status == kOk) status = ParseGravityOption(c.gravity, &gravity);
+  RobotModel robot;
+  std::vector<EffectSpec> effects;
+  std::optional<RobotDynamics> model;
+  if (status == kOk) status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
+  JointSamples train, validation;
+  std::vector<int> train_lines;
+  if (status == kOk) status = ReadRobotLog(c.data, robot, csv, &train, &train_lines);
+  if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
+  if (status != kOk) return status;
+  if (train.size() < 2) {
+    std::cerr << "Error: " << c.data << ": " << train.size() << " samples; identification needs more\n";
+    return kInvalidValue;
+  }
+  IdentificationRun run;
+  status = Fit(c.data, *model, train, c.validate.empty() ? nullptr : &validation, options, outliers, &run);
+  if (status != kOk) return status;
+  NameSamplesByLine(c.data, train_lines, &run.outliers.reasons);  // rejected rows by their line in the file
+  if (run.failed()) {
+    std::cerr << FitFailureText(c.data, run, train, outliers.enabled);
+    return kInvalidValue;
+  }
+  if (c.json) {
+    std::cout << IdentificationJson(*model, run).dump(2) << "\n";
+  } else {
+    std::cout << IdentificationText(*model, run);
+  }
+  status = WriteOutputs(c, robot, *model, run, c.validate.empty() ? train : validation);
+  if (status == kOk && !run.fit.lm.converged()) {
     std::cerr << "warning: the fit stopped on " << ToString(run.fit.lm.reason) << " after " << run.fit.lm.iterations
               << " iterations without converging (raise --max-iterations or --prior-weight)\n";
   }
-  return kOk;
+  return status;
 }
 
 }  // namespace inertial::cli
