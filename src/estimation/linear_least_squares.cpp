@@ -11,10 +11,14 @@ LinearLeastSquaresResult SolveLinearLeastSquares(const LinearRegression& regress
                                 std::to_string(regression.A.rows()) + " x " + std::to_string(regression.A.cols()) +
                                 ", b " + std::to_string(regression.b.rows()));
   }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(regression.A);
+  // The complete orthogonal decomposition is the column-pivoting QR (same default threshold, so the
+  // same rank) followed, when the rank is short, by an orthogonal reduction of R's first rank rows:
+  // its solve is then the minimum-norm least-squares solution. ColPivHouseholderQR::solve would
+  // divide by the rounding-sized pivots that rank() counts as zero. Full rank: the same solve.
+  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(regression.A);
   LinearLeastSquaresResult result;
-  result.pi = qr.solve(regression.b);
-  result.rank = static_cast<int>(qr.rank());
+  result.pi = cod.solve(regression.b);
+  result.rank = static_cast<int>(cod.rank());
   result.cost = 0.5 * (regression.A * result.pi - regression.b).squaredNorm();
   return result;
 }

@@ -9,24 +9,15 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "estimation/synthetic_regression.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
 namespace {
 
+using testing::RandomMatrix;
 using testing::Rng;
-
-ParameterLayout Scalars(int n, ScalarMap map) {
-  std::vector<ScalarBlock> blocks;
-  for (int i = 0; i < n; ++i) blocks.push_back(ScalarBlock{map, i, i});
-  return ParameterLayout(n, {}, blocks);
-}
-
-Eigen::MatrixXd RandomMatrix(Rng& rng, int rows, int cols) {
-  Eigen::MatrixXd M(rows, cols);
-  for (int i = 0; i < M.size(); ++i) M.data()[i] = rng.Normal();
-  return M;
-}
+using testing::Scalars;
 
 TEST(GradientEstimator, OneStepIsTheNormalizedGradient) {
   Rng rng(1);

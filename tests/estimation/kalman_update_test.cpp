@@ -10,11 +10,13 @@
 #include <limits>
 #include <stdexcept>
 
+#include "estimation/synthetic_regression.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
 namespace {
 
+using testing::RandomMatrix;
 using testing::Rng;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -26,12 +28,6 @@ KalmanOptions Plain(double sigma) {
   o.huber = o.gate = kInf;
   o.max_step = kInf;
   return o;
-}
-
-Eigen::MatrixXd RandomMatrix(Rng& rng, int rows, int cols) {
-  Eigen::MatrixXd M(rows, cols);
-  for (int i = 0; i < M.size(); ++i) M.data()[i] = rng.Normal();
-  return M;
 }
 
 Eigen::VectorXd RandomStd(Rng& rng, int n) {

@@ -9,26 +9,17 @@
 #include <Eigen/LU>
 #include <limits>
 
+#include "estimation/synthetic_regression.hpp"
 #include "test_support.hpp"
 
 namespace inertial {
 namespace {
 
+using testing::RandomMatrix;
 using testing::Rng;
+using testing::Scalars;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-ParameterLayout Scalars(int n, ScalarMap map) {
-  std::vector<ScalarBlock> blocks;
-  for (int i = 0; i < n; ++i) blocks.push_back(ScalarBlock{map, i, i});
-  return ParameterLayout(n, {}, blocks);
-}
-
-Eigen::MatrixXd RandomMatrix(Rng& rng, int rows, int cols) {
-  Eigen::MatrixXd M(rows, cols);
-  for (int i = 0; i < M.size(); ++i) M.data()[i] = rng.Normal();
-  return M;
-}
 
 RecursiveGaussNewtonOptions Plain(double sigma) {
   RecursiveGaussNewtonOptions o;
@@ -71,7 +62,7 @@ TEST(RecursiveGaussNewton, ExponentialBlockTakesTheExtendedKalmanStep) {
   const Eigen::Vector3d x0(0.1, -0.3, 0.2), std0(0.3, 0.2, 0.4);
   RecursiveGaussNewton rgn(Scalars(n, ScalarMap::kExponential), m, x0, std0, Plain(sigma));
   const Eigen::MatrixXd A = RandomMatrix(rng, m, n);
-  const Eigen::VectorXd w0 = x0.array().exp();
+  const Eigen::Vector3d w0 = x0.array().exp();
   const Eigen::VectorXd y = A * w0 + 0.3 * RandomMatrix(rng, m, 1);
   const Eigen::MatrixXd H = A * w0.asDiagonal();
   const Eigen::MatrixXd P = std0.array().square().matrix().asDiagonal();

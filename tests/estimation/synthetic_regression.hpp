@@ -1,7 +1,12 @@
 /// @file synthetic_regression.hpp
-/// Test helper: a well-excited single-body regression with exact wrenches plus Gaussian noise.
+/// Test helpers for the estimators' tests: a well-excited single-body regression with exact
+/// wrenches plus Gaussian noise, a layout of scalar blocks, and a seeded Gaussian matrix.
 #pragma once
 
+#include <Eigen/Core>
+#include <vector>
+
+#include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/inertia/inertial_params.hpp"
 #include "inertial/model/midpoint_regression.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
@@ -22,6 +27,20 @@ inline LinearRegression SyntheticRegression(Rng& rng, const InertialParams& body
     reg.b.segment<6>(6 * i) = Y * body.vector() + n;
   }
   return reg;
+}
+
+// n scalar parameters, each its own block with map `map` (parameter i is coefficient i).
+inline ParameterLayout Scalars(int n, ScalarMap map) {
+  std::vector<ScalarBlock> blocks;
+  for (int i = 0; i < n; ++i) blocks.push_back(ScalarBlock{map, i, i});
+  return ParameterLayout(n, {}, blocks);
+}
+
+// A rows x cols matrix of independent standard normal draws.
+inline Eigen::MatrixXd RandomMatrix(Rng& rng, int rows, int cols) {
+  Eigen::MatrixXd M(rows, cols);
+  for (int i = 0; i < M.size(); ++i) M.data()[i] = rng.Normal();
+  return M;
 }
 
 }  // namespace inertial::testing
