@@ -7,6 +7,7 @@
 #include "inertial/config/motors_yaml.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/number_parsing.hpp"
+#include "inertial/formats/output_paths.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/transport/can_bus.hpp"
 
@@ -43,30 +44,12 @@ void ApplyConfigFile(const std::string& path, DaemonOptions* options) {
   }
 }
 
-// True if both paths are given and name the same file (also through another spelling or a link).
-bool SameFile(const std::string& a, const std::string& b) {
-  if (a.empty() || b.empty()) return false;
-  std::error_code ec;
-  if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
-  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
-}
-
 // The files the daemon writes must not be any of its inputs (nor each other).
 void CheckOutputs(const DaemonRequest& r, const DaemonOptions& options) {
-  const std::pair<const char*, std::string> outputs[] = {{"--checkpoint", options.checkpoint_path},
-                                                         {"--write-urdf", r.write_urdf}};
-  const std::pair<const char*, std::string> inputs[] = {
-      {"--model", r.model_path}, {"--config", r.config_path}, {"--can-config", r.can_config}};
-  for (const auto& [out_option, out] : outputs) {
-    for (const auto& [in_option, in] : inputs) {
-      if (SameFile(out, in)) {
-        Fail(StartFailure::kUsage, std::string(out_option) + " '" + out + "' is the " + in_option +
-                                       " input: refusing to overwrite an input");
-      }
-    }
-  }
-  if (SameFile(options.checkpoint_path, r.write_urdf)) {
-    Fail(StartFailure::kUsage, "--checkpoint and --write-urdf name the same file '" + r.write_urdf + "'");
+  if (const std::optional<std::string> clash =
+          OutputPathClash({{"--checkpoint", options.checkpoint_path}, {"--write-urdf", r.write_urdf}},
+                          {{"--model", r.model_path}, {"--config", r.config_path}, {"--can-config", r.can_config}})) {
+    Fail(StartFailure::kUsage, *clash);
   }
 }
 

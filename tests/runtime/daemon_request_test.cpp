@@ -120,7 +120,7 @@ TEST(DaemonRequest, OutputsMayNotNameAnInputNorEachOther) {
   r.overrides.checkpoint = r.model_path;
   Refusal e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kUsage);
-  EXPECT_EQ(e.message, "--checkpoint '" + r.model_path + "' is the --model input: refusing to overwrite an input");
+  EXPECT_EQ(e.message, "--checkpoint '" + r.model_path + "' is the --model input: refusing to overwrite an input (choose another output path)");
   r.overrides.checkpoint.clear();
   // The configuration's checkpoint counts, and two spellings of one new file are the same file.
   const std::filesystem::path dir = testing::UniqueTempPath("outputs");
@@ -129,10 +129,10 @@ TEST(DaemonRequest, OutputsMayNotNameAnInputNorEachOther) {
   r.write_urdf = (dir / "sub" / ".." / "estimate.out").string();
   e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kUsage);
-  EXPECT_EQ(e.message, "--checkpoint and --write-urdf name the same file '" + r.write_urdf + "'");
+  EXPECT_EQ(e.message, "--checkpoint and --write-urdf name the same file '" + (dir / "estimate.out").string() + "'");
   r.write_urdf = r.config_path;
   EXPECT_EQ(RefusalOf(r).message,
-            "--write-urdf '" + r.config_path + "' is the --config input: refusing to overwrite an input");
+            "--write-urdf '" + r.config_path + "' is the --config input: refusing to overwrite an input (choose another output path)");
   std::filesystem::remove(r.config_path);
   std::filesystem::remove_all(dir);
 }

@@ -81,6 +81,21 @@ TEST(CheckCli, ImpossibleLinkIsNamedWithItsFailedCheckAndRepaired) {
   }
 }
 
+TEST(CheckCli, RefusesToRepairOverTheFileItChecks) {
+  const auto in = testing::TempUrdfPath("bad_in_place.urdf");
+  testing::WriteTextFile(in, ImpossibleArm());
+  const std::string before = testing::ReadTextFile(in);
+  // The same file, once by its name and once through another spelling of its directory.
+  const std::string other = (in.parent_path() / "." / in.filename()).string();
+  for (const std::string& repair : {in.string(), other}) {
+    const testing::CliRun r = RunCli({"check", "--model", in.string(), "--repair", repair});
+    EXPECT_EQ(r.exit_code, 2) << Describe(r);
+    EXPECT_TRUE(Contains(r.err, "--repair '" + repair + "' is the --model input: refusing to overwrite an input"))
+        << r.err;
+  }
+  EXPECT_EQ(testing::ReadTextFile(in), before);  // untouched
+}
+
 TEST(CheckCli, FilesThatAreNotUrdfAreIoErrorsNamingThePath) {
   const auto path = testing::TempUrdfPath("not.urdf");
   testing::WriteTextFile(path, "<html><body>hello</body></html>");

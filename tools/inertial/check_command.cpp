@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "option_parsing.hpp"
 #include "inertial/formats/link_inertial_check.hpp"
 #include "inertial/report/link_inertial_report.hpp"
 
@@ -26,6 +27,9 @@ CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* c) {
 }
 
 int RunCheckCommand(const CheckCommand& c) {
+  if (const int status = RefuseOverwritingInputs({{"--repair", c.repair}}, {{"--model", c.model}}); status != kOk) {
+    return status;
+  }
   UrdfInertialCheck check;
   std::optional<UrdfRepair> repair;
   try {

@@ -13,6 +13,7 @@
 
 #include "exit_codes.hpp"
 #include "inertial/formats/number_parsing.hpp"
+#include "inertial/formats/output_paths.hpp"
 
 namespace inertial::cli {
 
@@ -59,33 +60,12 @@ inline int ParseRealOption(const std::string& text, const char* option, double l
   return kOk;
 }
 
-// True if the two paths name the same file (also through another spelling or a link).
-inline bool SameFile(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
-  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
-}
-
-// An output (option, path) must not name an input (option, path), nor another output: kUsage with
+// An output must not name an input, nor another output (formats/output_paths.hpp): kUsage with
 // the error printed, else kOk. Empty paths are not given and are skipped.
-using PathOption = std::pair<const char*, std::string>;
 inline int RefuseOverwritingInputs(const std::vector<PathOption>& outputs, const std::vector<PathOption>& inputs) {
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    const auto& [out_option, out] = outputs[i];
-    if (out.empty()) continue;
-    for (const auto& [in_option, in] : inputs) {
-      if (!in.empty() && SameFile(out, in)) {
-        std::cerr << "Error: " << out_option << " '" << out << "' is the " << in_option
-                  << " input: refusing to overwrite an input (choose another output path)\n";
-        return kUsage;
-      }
-    }
-    for (std::size_t k = i + 1; k < outputs.size(); ++k) {
-      if (!outputs[k].second.empty() && SameFile(out, outputs[k].second)) {
-        std::cerr << "Error: " << out_option << " and " << outputs[k].first << " name the same file '" << out << "'\n";
-        return kUsage;
-      }
-    }
+  if (const std::optional<std::string> clash = OutputPathClash(outputs, inputs)) {
+    std::cerr << "Error: " << *clash << "\n";
+    return kUsage;
   }
   return kOk;
 }

@@ -24,7 +24,8 @@ struct DaemonOverrides {
   bool fresh = false;               ///< start_fresh (always applied)
 };
 
-/// Applies the given (non-empty) values over *options, in the order of the struct's members.
+/// Applies the given (non-empty) values over *options, and `fresh` always; a throw can leave the
+/// options partly changed.
 /// @throws std::invalid_argument naming the option ("--publish-rate must be positive", the number
 /// parser's "--noise-tau: ..." message, an unknown estimator or log level); *options may then be
 /// partly changed.

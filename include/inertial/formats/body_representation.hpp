@@ -40,7 +40,8 @@ struct BodyConversion {
 };
 
 /// Converts `request.values` from one representation to another.
-/// @throws std::invalid_argument (the message says why) when the numbers are no body of `from`
+/// @throws std::invalid_argument (the message says why) when the count of values is not the size of
+/// `from` ("pi takes 10 numbers, got 9"), when the numbers are no body of `from`
 /// (an mci of zero mass, a pseudo or spatial matrix not of its form, a theta that overflows double
 /// precision), when the body is not fully consistent (unless allow_inconsistent, and never for theta
 /// output), or when it has no `to` (mci of a massless body; theta without a Cholesky factor).
