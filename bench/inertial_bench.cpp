@@ -6,7 +6,10 @@
 // estimator: gauss_newton, gradient, linear_rls (the classical baseline: linear RLS on pi);
 // model: body (one body, 10 parameters, 6 measurements), leg3 (examples/leg3.urdf with three
 // geared rotors, viscous and Coulomb friction: 66 parameters, 3 measurements), arm7
-// (examples/arm7.urdf with viscous and Coulomb friction: 84 parameters, 7 measurements).
+// (examples/arm7.urdf with viscous and Coulomb friction: 84 parameters, 7 measurements), chain7,
+// chain14, chain28 (examples/chain<n>.urdf: serial chains of n revolute joints with alternating
+// axes, every link free, viscous and Coulomb friction on every joint: 12 n parameters, n
+// measurements), for how the cost grows with the robot.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -30,6 +33,7 @@ RobotDynamics Robot(const std::string& model) {
   if (model == "leg3") {
     return examples::Leg3().Dynamics("viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9.33");
   }
+  if (model.rfind("chain", 0) == 0) return examples::Chain(std::stoi(model.substr(5))).Dynamics("viscous,coulomb");
   return examples::Arm7().Dynamics("viscous,coulomb");
 }
 
@@ -146,12 +150,12 @@ void Register() {
     const EstimatorKind k = kind;
     benchmark::RegisterBenchmark((std::string("Tick/") + kname + "/body").c_str(),
                                  [k](benchmark::State& s) { TickBody(s, k); });
-    for (const char* model : {"leg3", "arm7"}) {
+    for (const char* model : {"leg3", "arm7", "chain7", "chain14", "chain28"}) {
       const std::string m = model;
       benchmark::RegisterBenchmark((std::string("Tick/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { TickJoint(s, k, m); });
     }
-    for (const char* model : {"body", "leg3", "arm7"}) {
+    for (const char* model : {"body", "leg3", "arm7", "chain7", "chain14", "chain28"}) {
       const std::string m = model;
       benchmark::RegisterBenchmark((std::string("Update/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { UpdateOnly(s, k, m); });

@@ -1,5 +1,5 @@
 /// @file bundled_robots.hpp
-/// The bundled robots of examples/leg3.urdf and examples/arm7.urdf written out in code, for
+/// The bundled robots of examples/leg3.urdf, examples/arm7.urdf and examples/chain<n>.urdf written out in code, for
 /// programs that use the embeddable core alone (no URDF reader, no file): examples/adaptive_control.cpp
 /// and bench/inertial_bench.cpp (built for the robot's own computer). Each link is the plain solid
 /// shape its URDF comment gives; tests/formats/bundled_robots_test.cpp checks every joint and inertia
@@ -118,6 +118,26 @@ inline BundledRobot Arm7() {
   SpatialTransform tool0;
   tool0.p_AB = Vector3(0, 0, 0.045);
   return detail::Finish(std::move(t), "base_link", {{"tool0", LinkLocation{6, tool0}}});
+}
+
+/// The serial chain of examples/chain<n>.urdf (scripts/make-chain-urdf.py; the scale benchmarks of
+/// bench/inertial_bench.cpp): n revolute joints j1..jn with alternating axes y, x, y, ..., the first
+/// 0.05 m above the base and each next one 0.08 m above the last; link i a solid cylinder of radius
+/// 0.03 m and length 0.08 m along z, centred 0.04 m above its joint, of mass 0.95^(i-1) kg.
+inline BundledRobot Chain(int n) {
+  using detail::At;
+  using detail::Revolute;
+  constexpr double kLength = 0.08, kRadius = 0.03;
+  KinematicTree t;
+  double mass = 1.0;
+  for (int i = 0; i < n; ++i) {
+    const Vector3 axis = i % 2 == 0 ? Vector3::UnitY() : Vector3::UnitX();
+    t.AddBody("link" + std::to_string(i + 1), i - 1,
+              Revolute("j" + std::to_string(i + 1), {0, 0, i == 0 ? 0.05 : kLength}, {0, 0, 0}, axis),
+              SolidCylinder(mass, kRadius, kLength, At({0, 0, kLength / 2}, {0, 0, 0})));
+    mass *= 0.95;
+  }
+  return detail::Finish(std::move(t), "base", {});
 }
 
 }  // namespace inertial::examples

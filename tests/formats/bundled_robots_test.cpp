@@ -53,5 +53,12 @@ TEST(BundledRobots, Arm7InCodeIsTheUrdf) {
   ExpectSameRobot(examples::Arm7(), "arm7.urdf", "viscous,coulomb,payload@tool0:mass=0.5");
 }
 
+TEST(BundledRobots, ChainsInCodeAreTheUrdfs) {
+  for (const int n : {7, 14, 28}) {
+    SCOPED_TRACE(n);
+    ExpectSameRobot(examples::Chain(n), "chain" + std::to_string(n) + ".urdf", "viscous,coulomb");
+  }
+}
+
 }  // namespace
 }  // namespace inertial
