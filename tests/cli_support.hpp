@@ -39,6 +39,13 @@ inline fs::path UniqueTempPath(const std::string& stem) {
          ("inertial_cli_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++) + "_" + stem);
 }
 
+// Writes `text` to a new UniqueTempPath(stem) and returns its path.
+inline std::string WriteUniqueTempFile(const std::string& stem, const std::string& text) {
+  const std::string path = UniqueTempPath(stem).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
 // Runs the program at path argv0 (no shell, no PATH search) with `args`, feeding `input` on stdin;
 // stdout and stderr go to temporary files (no pipe deadlocks), read back after the process ends.
 inline CliRun RunProgram(const std::string& argv0, const std::vector<std::string>& args, const std::string& input = "") {

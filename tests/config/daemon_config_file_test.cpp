@@ -13,12 +13,6 @@
 namespace inertial {
 namespace {
 
-std::string WriteConfig(const std::string& text) {
-  const std::string path = testing::UniqueTempPath("config.json").string();
-  std::ofstream(path) << text;
-  return path;
-}
-
 DaemonConfigFileError ErrorOf(const std::string& path) {
   DaemonOptions options;
   try {
@@ -31,7 +25,7 @@ DaemonConfigFileError ErrorOf(const std::string& path) {
 }
 
 TEST(DaemonConfigFile, TheFilesKeysReachTheOptionsAndAbsentKeysKeepTheirValues) {
-  const std::string path = WriteConfig(R"({"channel": "ARM_STATE", "publish_rate_hz": 25, "noise_tau": 0.4})");
+  const std::string path = testing::WriteUniqueTempFile("config.json", R"({"channel": "ARM_STATE", "publish_rate_hz": 25, "noise_tau": 0.4})");
   DaemonOptions options;
   options.checkpoint_path = "before.json";
   ApplyDaemonConfigFile(path, &options);
@@ -51,17 +45,17 @@ TEST(DaemonConfigFile, AMissingFileCannotBeRead) {
 }
 
 TEST(DaemonConfigFile, TextThatIsNotJsonIsToldApartFromAnInvalidConfiguration) {
-  const std::string not_json = WriteConfig("{\"channel\": ");
+  const std::string not_json = testing::WriteUniqueTempFile("config.json", "{\"channel\": ");
   const DaemonConfigFileError parse = ErrorOf(not_json);
   EXPECT_EQ(parse.reason(), DaemonConfigFileError::Reason::kNotJson);
   EXPECT_EQ(std::string(parse.what()).rfind("[json.exception.parse_error.", 0), 0u) << parse.what();
 
-  const std::string invalid = WriteConfig(R"({"chanel": "ARM_STATE"})");
+  const std::string invalid = testing::WriteUniqueTempFile("config.json", R"({"chanel": "ARM_STATE"})");
   const DaemonConfigFileError key = ErrorOf(invalid);
   EXPECT_EQ(key.reason(), DaemonConfigFileError::Reason::kInvalid);
   EXPECT_EQ(std::string(key.what()), "config: unknown key \"chanel\"");
 
-  const std::string not_object = WriteConfig("[1, 2]");
+  const std::string not_object = testing::WriteUniqueTempFile("config.json", "[1, 2]");
   EXPECT_EQ(ErrorOf(not_object).reason(), DaemonConfigFileError::Reason::kInvalid);
   EXPECT_EQ(std::string(ErrorOf(not_object).what()), "config: expected a JSON object");
   for (const std::string& p : {not_json, invalid, not_object}) std::filesystem::remove(p);

@@ -35,12 +35,6 @@ Refusal RefusalOf(const DaemonRequest& r, bool make = false) {
   return {};
 }
 
-std::string WriteFile(const std::string& stem, const std::string& text) {
-  const std::string path = testing::UniqueTempPath(stem).string();
-  std::ofstream(path) << text;
-  return path;
-}
-
 DaemonRequest Body() {
   DaemonRequest r;
   r.body = true;
@@ -79,13 +73,13 @@ TEST(DaemonRequest, AConfigurationThatCannotBeUsedIsAFileError) {
   Refusal e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kFileError);
   EXPECT_EQ(e.message, "--config: cannot read the configuration '" + r.config_path + "': No such file or directory");
-  r.config_path = WriteFile("broken.json", "{");
+  r.config_path = testing::WriteUniqueTempFile("broken.json", "{");
   e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kFileError);
   EXPECT_EQ(e.message.rfind("--config: " + r.config_path + " is not valid JSON: [json.exception.parse_error", 0), 0u)
       << e.message;
   std::filesystem::remove(r.config_path);
-  r.config_path = WriteFile("invalid.json", R"({"publish_rate": 5})");
+  r.config_path = testing::WriteUniqueTempFile("invalid.json", R"({"publish_rate": 5})");
   e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kFileError);
   EXPECT_EQ(e.message, "--config " + r.config_path + ": config: unknown key \"publish_rate\"");
@@ -95,7 +89,7 @@ TEST(DaemonRequest, AConfigurationThatCannotBeUsedIsAFileError) {
 TEST(DaemonRequest, TheCommandLineOverridesTheConfigurationWhichOverridesTheDefaults) {
   DaemonRequest r = Body();
   EXPECT_EQ(DaemonOptionsFor(r).input_channel, "INERTIAL_BODY_WRENCH");
-  r.config_path = WriteFile("config.json", R"({"publish_rate_hz": 20, "checkpoint_interval_s": 7, "channel": "C"})");
+  r.config_path = testing::WriteUniqueTempFile("config.json", R"({"publish_rate_hz": 20, "checkpoint_interval_s": 7, "channel": "C"})");
   DaemonOptions o = DaemonOptionsFor(r);
   EXPECT_EQ(o.input_channel, "C");
   EXPECT_EQ(o.publish_rate_hz, 20.0);
@@ -125,7 +119,7 @@ TEST(DaemonRequest, OutputsMayNotNameAnInputNorEachOther) {
   // The configuration's checkpoint counts, and two spellings of one new file are the same file.
   const std::filesystem::path dir = testing::UniqueTempPath("outputs");
   std::filesystem::create_directories(dir / "sub");
-  r.config_path = WriteFile("config.json", "{\"checkpoint\": \"" + (dir / "estimate.out").string() + "\"}");
+  r.config_path = testing::WriteUniqueTempFile("config.json", "{\"checkpoint\": \"" + (dir / "estimate.out").string() + "\"}");
   r.write_urdf = (dir / "sub" / ".." / "estimate.out").string();
   e = RefusalOf(r);
   EXPECT_EQ(e.failure, StartFailure::kUsage);

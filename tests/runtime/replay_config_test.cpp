@@ -12,12 +12,6 @@
 namespace inertial {
 namespace {
 
-std::string WriteConfig(const std::string& text) {
-  const std::string path = testing::UniqueTempPath("config.json").string();
-  std::ofstream(path) << text;
-  return path;
-}
-
 std::string ErrorOf(const std::string& path) {
   try {
     ReplayConfigFromFile(path);
@@ -38,7 +32,7 @@ TEST(ReplayConfig, WithoutAConfigurationTheDefaults) {
 }
 
 TEST(ReplayConfig, TheDaemonsConfigurationSetsTheReplay) {
-  const std::string path = WriteConfig(R"({"channel": "ARM", "publish_rate_hz": 20, "residual_window_s": 2.5,
+  const std::string path = testing::WriteUniqueTempFile("config.json", R"({"channel": "ARM", "publish_rate_hz": 20, "residual_window_s": 2.5,
       "noise_tau": 0.3, "estimator": "linear_rls", "estimate_channel": "NOT_USED"})");
   const ReplayConfig c = ReplayConfigFromFile(path);
   EXPECT_EQ(c.replay.channel, "ARM");
@@ -48,7 +42,7 @@ TEST(ReplayConfig, TheDaemonsConfigurationSetsTheReplay) {
   EXPECT_EQ(c.estimator.kind, EstimatorKind::kLinearRls);
   EXPECT_EQ(c.replay.estimate_channel, "INERTIAL_ESTIMATE");
   std::filesystem::remove(path);
-  const std::string no_channel = WriteConfig(R"({"publish_rate_hz": 4})");
+  const std::string no_channel = testing::WriteUniqueTempFile("config.json", R"({"publish_rate_hz": 4})");
   EXPECT_EQ(ReplayConfigFromFile(no_channel).replay.channel, "INERTIAL_JOINT_STATE");
   EXPECT_DOUBLE_EQ(ReplayConfigFromFile(no_channel).replay.estimate_period_s, 0.25);
   std::filesystem::remove(no_channel);
@@ -57,16 +51,16 @@ TEST(ReplayConfig, TheDaemonsConfigurationSetsTheReplay) {
 TEST(ReplayConfig, AConfigurationThatCannotBeUsedSaysWhy) {
   const std::string absent = testing::UniqueTempPath("absent.json").string();
   EXPECT_EQ(ErrorOf(absent), "--config: cannot read the configuration '" + absent + "': No such file or directory");
-  const std::string invalid = WriteConfig(R"({"noise_tau": "loud"})");
+  const std::string invalid = testing::WriteUniqueTempFile("config.json", R"({"noise_tau": "loud"})");
   EXPECT_EQ(ErrorOf(invalid).rfind("--config: " + invalid + ": config: ", 0), 0u) << ErrorOf(invalid);
-  const std::string broken = WriteConfig("not json");
+  const std::string broken = testing::WriteUniqueTempFile("config.json", "not json");
   EXPECT_EQ(ErrorOf(broken).rfind("--config: " + broken + ": [json.exception.parse_error", 0), 0u) << ErrorOf(broken);
   std::filesystem::remove(invalid);
   std::filesystem::remove(broken);
 }
 
 TEST(ReplayConfig, TheCommandLineOverridesTheConfiguration) {
-  const std::string path = WriteConfig(R"({"channel": "ARM", "publish_rate_hz": 20, "noise_tau": 0.3})");
+  const std::string path = testing::WriteUniqueTempFile("config.json", R"({"channel": "ARM", "publish_rate_hz": 20, "noise_tau": 0.3})");
   ReplayConfig c = ReplayConfigFromFile(path);
   ReplayOverrides o;
   o.realtime = true;
