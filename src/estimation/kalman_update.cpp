@@ -1,16 +1,28 @@
 #include "inertial/estimation/kalman_update.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "inertial/estimation/symmetric_span_product.hpp"
 #include "inertial/inertia/assert.hpp"
 
 namespace inertial {
 
-KalmanUpdate::KalmanUpdate(int n, int m, const Eigen::VectorXd& initial_std, const KalmanOptions& options)
+namespace {
+int RoundUpToBlock(int k) { return (k + kSpanBlock - 1) / kSpanBlock * kSpanBlock; }
+}  // namespace
+
+template <int N, int M>
+BasicKalmanUpdate<N, M>::BasicKalmanUpdate(int n, int m, const Eigen::VectorXd& initial_std,
+                                           const KalmanOptions& options)
     : options_(options), llt_(m > 0 ? m : 1) {
   if (n < 1 || m < 1) throw std::invalid_argument("Kalman update: needs at least one parameter and one measurement");
+  if (!kDynamic && (n != N || m != M)) {
+    throw std::invalid_argument("Kalman update: sizes " + std::to_string(n) + " x " + std::to_string(m) +
+                                " for an update of fixed size " + std::to_string(N) + " x " + std::to_string(M));
+  }
   if (initial_std.size() != n || !initial_std.allFinite() || !(initial_std.array() > 0).all()) {
     throw std::invalid_argument("Kalman update: initial standard deviations must be " + std::to_string(n) +
                                 " positive finite numbers");
@@ -23,38 +35,62 @@ KalmanUpdate::KalmanUpdate(int n, int m, const Eigen::VectorXd& initial_std, con
   if (!(o.huber > 0) || !(o.gate > 0)) throw std::invalid_argument("Kalman update: Huber threshold and gate must be positive");
   if (o.max_consecutive_outliers < 0) throw std::invalid_argument("Kalman update: bad outlier options");
   if (!(o.max_step > 0)) throw std::invalid_argument("Kalman update: max step must be positive");
-  P_ = initial_std.array().square().matrix().asDiagonal();
+  n_ = n;
+  m_ = m;
   cap_ = o.max_variance_factor * initial_std.array().square();
-  blocked_ = n >= kBlockedThreshold;
   forget_.resize(n);
-  PHt_.resize(n, m);
   W_.resize(n, m);
   S_.resize(m, m);
   z_.resize(m);
-  dx_ = Eigen::VectorXd::Zero(n);
+  dx_ = VectorN::Zero(n);
+  if constexpr (kDynamic) {
+    // P, H^T and P H^T padded with zeros to whole blocks of the span product (the padding stays zero).
+    P_ = Eigen::MatrixXd::Zero(RoundUpToBlock(n), RoundUpToBlock(n));
+    Ht_ = Eigen::MatrixXd::Zero(RoundUpToBlock(n), RoundUpToBlock(m));
+    PHt_ = Eigen::MatrixXd::Zero(RoundUpToBlock(n), RoundUpToBlock(m));
+    first_.resize(m);
+    end_.resize(m);
+  }
+  P_.setZero();
+  P_.diagonal().head(n) = initial_std.array().square();
 }
 
-UpdateStatus KalmanUpdate::Step(const Eigen::MatrixXd& H, const Eigen::VectorXd& r) {
-  INERTIAL_ASSERT(H.rows() == S_.rows() && H.cols() == P_.rows() && r.size() == S_.rows());
-  H_ = &H;
-  r_ = &r;
-  const int m = static_cast<int>(S_.rows());
-  // Prediction: selective forgetting (P <- D P D, D_ii = lambda^-1/2 below the cap, 1 above) and
-  // process noise below the cap.
-  if (options_.forgetting < 1.0 || options_.process_noise > 0.0) {
-    const double f = 1.0 / std::sqrt(options_.forgetting);
-    for (int i = 0; i < P_.rows(); ++i) forget_[i] = P_(i, i) < cap_[i] ? f : 1.0;
-    if (options_.forgetting < 1.0) {
-      for (int j = 0; j < P_.cols(); ++j) P_.col(j).array() *= forget_[j] * forget_.array();
-    }
-    if (options_.process_noise > 0.0) {
-      for (int i = 0; i < P_.rows(); ++i) {
-        if (P_(i, i) < cap_[i]) P_(i, i) += options_.process_noise;
-      }
+template <int N, int M>
+void BasicKalmanUpdate<N, M>::Forget() {
+  // Selective forgetting (P <- D P D, D_ii = lambda^-1/2 below the cap, 1 above) and process
+  // noise below the cap; on the lower triangle where only that is kept.
+  const double f = 1.0 / std::sqrt(options_.forgetting);
+  const int n = n_;
+  for (int i = 0; i < n; ++i) forget_[i] = P_(i, i) < cap_[i] ? f : 1.0;
+  if (options_.forgetting < 1.0) {
+    if constexpr (kDynamic) {
+      for (int j = 0; j < n; ++j) P_.col(j).segment(j, n - j).array() *= forget_[j] * forget_.tail(n - j).array();
+    } else {
+      P_.array() *= (forget_ * forget_.transpose()).array();
     }
   }
+  if (options_.process_noise > 0.0) {
+    for (int i = 0; i < n; ++i) {
+      if (P_(i, i) < cap_[i]) P_(i, i) += options_.process_noise;
+    }
+  }
+}
+
+template <int N, int M>
+void BasicKalmanUpdate<N, M>::ResetCovariance() {
+  P_.setZero();
+  P_.diagonal().head(n_) = cap_ / options_.max_variance_factor;
+}
+
+template <int N, int M>
+UpdateStatus BasicKalmanUpdate<N, M>::Step(const MatrixH& H, const VectorM& r) {
+  INERTIAL_ASSERT(H.rows() == m_ && H.cols() == n_ && r.size() == m_);
+  r_ = &r;
+  const int m = m_;
+  if (options_.forgetting < 1.0 || options_.process_noise > 0.0) Forget();
+  Transpose(H);
   Predict(H);
-  if (!Factor(1.0)) return UpdateStatus::kNumerical;
+  if (!Factor(H, 1.0)) return UpdateStatus::kNumerical;
   normalized_innovation_ = std::sqrt(z_.squaredNorm() / m);
   if (normalized_innovation_ > options_.gate && !tracking_change_) {
     if (++consecutive_outliers_ <= options_.max_consecutive_outliers) return UpdateStatus::kOutlier;
@@ -63,43 +99,85 @@ UpdateStatus KalmanUpdate::Step(const Eigen::MatrixXd& H, const Eigen::VectorXd&
     tracking_change_ = true;
     ++changes_;
     // Everything may have changed: back to the initial uncertainty about the current estimate.
-    P_ = cap_.asDiagonal();
-    P_ /= options_.max_variance_factor;
+    ResetCovariance();
     Predict(H);
-    if (!Factor(1.0)) return UpdateStatus::kNumerical;
+    if (!Factor(H, 1.0)) return UpdateStatus::kNumerical;
   } else if (normalized_innovation_ <= options_.gate) {
     consecutive_outliers_ = 0;
     tracking_change_ = false;
   }
   const double e = std::sqrt(z_.squaredNorm() / m);
-  if (e > options_.huber && !Factor(options_.huber / e)) return UpdateStatus::kNumerical;
-  // W = P H^T L^-T: W L^T = P H^T, solved column by column (m is small).
-  const Eigen::MatrixXd& L = llt_.matrixLLT();  // lower triangle holds L
-  for (int j = 0; j < W_.cols(); ++j) {
-    W_.col(j) = PHt_.col(j);
-    for (int k = 0; k < j; ++k) W_.col(j) -= L(j, k) * W_.col(k);
-    W_.col(j) /= L(j, j);
-  }
+  if (e > options_.huber && !Factor(H, options_.huber / e)) return UpdateStatus::kNumerical;
+  // W = P H^T L^-T: W L^T = P H^T, a triangular solve from the right (its blocks of m columns
+  // fit the stack: no allocation).
+  W_ = PHt_.topLeftCorner(n_, m_);
+  llt_.matrixU().template solveInPlace<Eigen::OnTheRight>(W_);
   dx_.noalias() = W_ * z_;
   if (!dx_.allFinite() || !W_.allFinite()) return UpdateStatus::kNumerical;
-  const double largest = dx_.lpNorm<Eigen::Infinity>();
+  const double largest = dx_.template lpNorm<Eigen::Infinity>();
   step_scale_ = largest > options_.max_step ? options_.max_step / largest : 1.0;
   dx_ *= step_scale_;
   return UpdateStatus::kAccepted;
 }
 
-void KalmanUpdate::Predict(const Eigen::MatrixXd& H) {
-  if (blocked_) {
-    // Large P: a symmetric blocked product reading the lower triangle (Eigen's SYMM).
-    PHt_.noalias() = P_.selfadjointView<Eigen::Lower>() * H.transpose();
-  } else {
-    // Small P: m matrix-vector products (the blocked kernels' packing costs more than it saves).
-    for (int i = 0; i < PHt_.cols(); ++i) PHt_.col(i).noalias() = P_ * H.row(i).transpose();
+template <int N, int M>
+void BasicKalmanUpdate<N, M>::Transpose(const MatrixH& H) {
+  // H^T, so that every measurement's row is a contiguous column, and each row's span of nonzero
+  // columns [first, end): a joint's torque depends only on the bodies it carries and its own
+  // effects, so a robot's regressor is block-triangular and the spans are what the products need.
+  if constexpr (kDynamic) {
+    Ht_.topLeftCorner(n_, m_) = H.transpose();
+    for (int i = 0; i < m_; ++i) {
+      int c = 0, e = n_;
+      while (c < n_ && Ht_(c, i) == 0.0) ++c;
+      while (e > c && Ht_(e - 1, i) == 0.0) --e;
+      first_[i] = c;
+      end_[i] = e;
+    }
   }
 }
 
-bool KalmanUpdate::Factor(double weight) {
-  S_.noalias() = H_->lazyProduct(PHt_);
+template <int N, int M>
+void BasicKalmanUpdate<N, M>::Predict(const MatrixH& H) {
+  if constexpr (kDynamic) {
+    // PHt = P H^T from the lower triangle of P, kSpanBlock measurements at a time over the union
+    // of their spans rounded out to whole blocks (symmetric_span_product.hpp).
+    for (int g0 = 0; g0 < PHt_.cols(); g0 += kSpanBlock) {
+      int c = n_, e = 0;
+      for (int i = g0; i < std::min(g0 + kSpanBlock, m_); ++i) {
+        if (first_[i] < end_[i]) {
+          c = std::min(c, first_[i]);
+          e = std::max(e, end_[i]);
+        }
+      }
+      if (c >= e) {  // no measurement of the group depends on anything
+        PHt_.middleCols(g0, kSpanBlock).setZero();
+        continue;
+      }
+      SymmetricSpanProduct(P_, Ht_.middleCols(g0, kSpanBlock), c / kSpanBlock * kSpanBlock, RoundUpToBlock(e),
+                           PHt_.middleCols(g0, kSpanBlock));
+    }
+  } else {
+    PHt_.noalias() = P_.lazyProduct(H.transpose());  // fixed sizes: unrolled
+  }
+}
+
+template <int N, int M>
+bool BasicKalmanUpdate<N, M>::Factor(const MatrixH& H, double weight) {
+  // S = H P H^T + (sigma^2 / weight) 1, lower triangle only (what the Cholesky factorization
+  // reads), each row of H over its span.
+  if constexpr (kDynamic) {
+    for (int i = 0; i < m_; ++i) {
+      const int c = first_[i], l = end_[i] - first_[i];
+      if (l <= 0) {
+        S_.row(i).head(i + 1).setZero();
+      } else {
+        S_.row(i).head(i + 1).noalias() = Ht_.col(i).segment(c, l).transpose().lazyProduct(PHt_.block(c, 0, l, i + 1));
+      }
+    }
+  } else {
+    S_.noalias() = H.lazyProduct(PHt_);
+  }
   S_.diagonal().array() += options_.measurement_sigma * options_.measurement_sigma / weight;
   llt_.compute(S_);
   if (llt_.info() != Eigen::Success) return false;
@@ -108,29 +186,38 @@ bool KalmanUpdate::Factor(double weight) {
   return z_.allFinite();
 }
 
-void KalmanUpdate::Commit(double fraction) {
+template <int N, int M>
+void BasicKalmanUpdate<N, M>::Commit(double fraction) {
   // A step cut to a fraction of the Kalman step used only that fraction of the sample's
   // information: the covariance shrinks by as much (P - f W W^T stays positive definite for f <= 1).
-  // m rank-one updates, column by column (vectorized axpys), P kept symmetric in full.
   const double f = fraction * step_scale_;
-  if (blocked_) {
-    P_.selfadjointView<Eigen::Lower>().rankUpdate(W_, -f);  // lower triangle only (SYRK)
+  if constexpr (kDynamic) {
+    // The lower triangle only, by Eigen's symmetric rank-m update (SYRK; measured faster than
+    // column-by-column axpys from 10 parameters on, README "Per-tick latency"); its blocks of m
+    // columns fit the stack, so it does not allocate.
+    P_.topLeftCorner(n_, n_).template selfadjointView<Eigen::Lower>().rankUpdate(W_, -f);
   } else {
-    for (int j = 0; j < P_.cols(); ++j) {
-      for (int k = 0; k < W_.cols(); ++k) P_.col(j).noalias() -= (f * W_(j, k)) * W_.col(k);
-    }
+    // Fixed sizes: P in full, unrolled, and kept exactly symmetric (the lower triangle mirrored),
+    // so that a covariance saved (Covariance()) and restored continues bit for bit.
+    P_.noalias() -= (f * W_).lazyProduct(W_.transpose());
+    P_.template triangularView<Eigen::StrictlyUpper>() = P_.transpose();
   }
 }
 
-Eigen::MatrixXd KalmanUpdate::Covariance() const {
-  if (blocked_) return P_.selfadjointView<Eigen::Lower>();
-  return P_;  // kept in full; symmetric up to rounding
+template <int N, int M>
+Eigen::MatrixXd BasicKalmanUpdate<N, M>::Covariance() const {
+  return P_.topLeftCorner(n_, n_).template selfadjointView<Eigen::Lower>();
 }
 
-bool KalmanUpdate::SetCovariance(const Eigen::MatrixXd& P) {
-  if (P.rows() != P_.rows() || P.cols() != P_.cols() || !P.allFinite()) return false;
-  P_ = P;  // exactly, so that a restored estimator continues bit for bit
+template <int N, int M>
+bool BasicKalmanUpdate<N, M>::SetCovariance(const Eigen::MatrixXd& P) {
+  if (P.rows() != n_ || P.cols() != n_ || !P.allFinite()) return false;
+  // Exactly (of a dynamic P the lower triangle is used), so that a restored estimator continues bit for bit.
+  P_.topLeftCorner(n_, n_) = P;
   return true;
 }
+
+template class BasicKalmanUpdate<Eigen::Dynamic, Eigen::Dynamic>;
+template class BasicKalmanUpdate<10, 6>;
 
 }  // namespace inertial

@@ -10,6 +10,8 @@ namespace inertial {
 OnlineBodyEstimator::OnlineBodyEstimator(const InertialParams& prior, const OnlineEstimatorOptions& options)
     : layout_(ParameterLayout::SingleBody(prior)), kind_(options.kind) {
   estimator_ = MakeRecursiveEstimator(layout_, 6, Eigen::VectorXd::Zero(10), options);
+  body_gauss_newton_ = dynamic_cast<BodyGaussNewton*>(estimator_.get());
+  body_linear_rls_ = dynamic_cast<BodyLinearRls*>(estimator_.get());
   A_.resize(6, 10);
   y_.resize(6);
   w_.resize(10);
@@ -22,11 +24,7 @@ UpdateStatus OnlineBodyEstimator::Update(const BodySample& s) {
     estimator_->CountSample(UpdateStatus::kNonFinite);
     return UpdateStatus::kNonFinite;
   }
-  if (s.has_acceleration) {
-    A_ = RigidBodyRegressor(s.twist, s.acceleration, s.gravity);
-    y_ = s.wrench;
-    return estimator_->Update(s.t, A_, y_);
-  }
+  if (s.has_acceleration) return Use(s.t, RigidBodyRegressor(s.twist, s.acceleration, s.gravity), s.wrench);
   if (!has_previous_) {
     previous_ = s;
     has_previous_ = true;
@@ -42,10 +40,17 @@ UpdateStatus OnlineBodyEstimator::Update(const BodySample& s) {
   Vector6 w;
   // Gravity of the pair: the mean of the two samples' body-frame gravity.
   MidpointRegressorPair(a, b, 0.5 * (previous_.gravity + s.gravity), &Y, &w);
-  A_ = Y;
-  y_ = w;
   previous_ = s;
-  return estimator_->Update(s.t, A_, y_);
+  return Use(s.t, Y, w);
+}
+
+UpdateStatus OnlineBodyEstimator::Use(double t, const Matrix6x10& A, const Vector6& y) {
+  // The fixed-size estimators take the sample as it is; the others as dynamic-size copies.
+  if (body_gauss_newton_ != nullptr) return body_gauss_newton_->Update(t, A, y);
+  if (body_linear_rls_ != nullptr) return body_linear_rls_->Update(t, A, y);
+  A_ = A;
+  y_ = y;
+  return estimator_->Update(t, A_, y_);
 }
 
 InertialParams OnlineBodyEstimator::Body() const {

@@ -38,11 +38,14 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
     }
     std_x = options.initial_std;
   }
+  // One body measured by its wrench: the fixed-size estimators (same algorithm, compile-time sizes).
+  const bool one_body = layout.bodies().size() == 1 && layout.scalars().empty() && layout.num_features() == 10 && m == 6;
   switch (options.kind) {
     case EstimatorKind::kGaussNewton: {
       RecursiveGaussNewtonOptions o;
       o.kalman = options.kalman;
       o.kalman.measurement_sigma = options.measurement_sigma;
+      if (one_body) return std::make_unique<BodyGaussNewton>(layout, m, x0, std_x, o);
       return std::make_unique<RecursiveGaussNewton>(layout, m, x0, std_x, o);
     }
     case EstimatorKind::kGradient: {
@@ -57,6 +60,7 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
       KalmanOptions o = options.kalman;
       o.measurement_sigma = options.measurement_sigma;
       o.max_step = std::numeric_limits<double>::infinity();
+      if (one_body) return std::make_unique<BodyLinearRls>(m, w0, std_w, o);
       return std::make_unique<LinearRls>(m, w0, std_w, o);
     }
   }

@@ -81,8 +81,16 @@ void ParameterLayout::Evaluate(const Eigen::VectorXd& x, const Eigen::MatrixXd& 
   Matrix10 J;
   for (const BodyBlock& b : bodies_) {
     w.segment<10>(b.feature) += b.map.ToPi(x.segment<10>(b.parameter), &J);
-    // m x 10 times 10 x 10: a coefficient-based product (the blocked GEMM's packing would cost more).
-    H.middleCols<10>(b.parameter).noalias() = A.middleCols<10>(b.feature).lazyProduct(J);
+    // Row by row, a fixed-size 10 x 10 product (J^T a); a row of A that is zero over the body (a
+    // joint that does not carry it: a robot's regressor is block-triangular) gives a zero row.
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      const Vector10 a = A.row(i).segment<10>(b.feature).transpose();
+      if ((a.array() == 0.0).all()) {
+        H.row(i).segment<10>(b.parameter).setZero();
+      } else {
+        H.row(i).segment<10>(b.parameter).noalias() = (J.transpose() * a).transpose();
+      }
+    }
   }
   for (const ScalarBlock& s : scalars_) {
     const double v = x[s.parameter];

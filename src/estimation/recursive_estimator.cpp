@@ -7,23 +7,8 @@
 namespace inertial {
 
 UpdateStatus RecursiveEstimator::Update(double t, const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
-  UpdateStatus status = UpdateStatus::kAccepted;
-  if (A.rows() != num_measurements_ || A.cols() != num_features_ || y.size() != num_measurements_) {
-    status = UpdateStatus::kWrongSize;
-  } else if (!std::isfinite(t) || !A.allFinite() || !y.allFinite()) {
-    status = UpdateStatus::kNonFinite;
-  } else if (has_time_ && !(t > last_time_)) {
-    status = UpdateStatus::kOutOfOrder;
-  } else {
-    status = Apply(A, y);
-  }
-  counters_.Add(status);
-  if (status == UpdateStatus::kAccepted || status == UpdateStatus::kOutlier) {
-    // An outlier is still a valid sample in time: later samples must come after it.
-    has_time_ = true;
-    last_time_ = t;
-  }
-  return status;
+  const bool sizes_ok = A.rows() == num_measurements_ && A.cols() == num_features_ && y.size() == num_measurements_;
+  return Admit(t, sizes_ok, sizes_ok && A.allFinite() && y.allFinite(), [&] { return Apply(A, y); });
 }
 
 EstimatorState RecursiveEstimator::State() const {

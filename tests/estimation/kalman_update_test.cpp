@@ -1,8 +1,9 @@
 // The Kalman measurement update against the closed form: gain K = P H^T (H P H^T + sigma^2 1)^-1,
 // step K r, covariance P - K H P (dense normal-equation algebra, independent of the update's
-// Cholesky and column operations), on both storage paths (full and blocked), with forgetting and
+// Cholesky, span products and symmetric downdate), dense and block-triangular H, with forgetting and
 // process noise, the variance cap, Huber weighting, the step bound and the outlier gate.
 #include "inertial/estimation/kalman_update.hpp"
+#include "inertial/estimation/symmetric_span_product.hpp"
 
 #include <gtest/gtest.h>
 
@@ -47,18 +48,33 @@ struct Reference {
   }
 };
 
-void ExpectClosedForm(int n, int m, unsigned seed) {
+// H with the structure of a serial chain's regressor: row i is zero before column i n / m (the
+// bodies the joint does not carry), has exact zeros inside its span too, the last row's span ends
+// early (its own effect, not the others'), and one row is zero (a joint at a singular state).
+Eigen::MatrixXd Staircase(Rng& rng, int m, int n) {
+  Eigen::MatrixXd H = RandomMatrix(rng, m, n);
+  for (int i = 0; i < m; ++i) {
+    H.row(i).head(i * n / m).setZero();
+    H(i, (i * n / m + n) / 2) = 0.0;
+  }
+  H.row(m - 1).tail(n / 4).setZero();
+  if (m > 2) H.row(1).setZero();
+  return H;
+}
+
+template <class Update = KalmanUpdate>
+void ExpectClosedForm(int n, int m, unsigned seed, bool staircase = false) {
   Rng rng(seed);
   const double sigma = 0.7;
   const Eigen::VectorXd std0 = RandomStd(rng, n);
-  KalmanUpdate k(n, m, std0, Plain(sigma));
+  Update k(n, m, std0, Plain(sigma));
   Reference ref{Eigen::MatrixXd(std0.array().square().matrix().asDiagonal())};
   for (int sample = 0; sample < 30; ++sample) {
-    const Eigen::MatrixXd H = RandomMatrix(rng, m, n);
+    const Eigen::MatrixXd H = staircase ? Staircase(rng, m, n) : RandomMatrix(rng, m, n);
     const Eigen::VectorXd r = RandomMatrix(rng, m, 1);
     const Eigen::MatrixXd S = H * ref.P * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(m, m);
     const double d2 = r.dot(S.inverse() * r);
-    ASSERT_EQ(k.Step(H, r), UpdateStatus::kAccepted);
+    ASSERT_EQ(k.Step(typename Update::MatrixH(H), typename Update::VectorM(r)), UpdateStatus::kAccepted);
     EXPECT_NEAR(k.normalized_innovation(), std::sqrt(d2 / m), 1e-12 * (1 + d2)) << sample;
     const Eigen::VectorXd dx = ref.Step(H, r, sigma * sigma);
     EXPECT_LT((k.step() - dx).norm(), 1e-11 * (1 + dx.norm())) << sample;
@@ -69,8 +85,57 @@ void ExpectClosedForm(int n, int m, unsigned seed) {
 
 TEST(KalmanUpdate, MatchesTheClosedFormGainAndCovariance) { ExpectClosedForm(7, 3, 1); }
 
-TEST(KalmanUpdate, BlockedStorageMatchesTheClosedFormToo) {
-  ExpectClosedForm(KalmanUpdate::kBlockedThreshold + 8, 4, 2);
+TEST(KalmanUpdate, TheFixedSizeBodyUpdateMatchesTheClosedForm) { ExpectClosedForm<BodyKalmanUpdate>(10, 6, 7); }
+
+// The body's fixed-size update and the dynamic one take the same decisions and steps with every
+// option on (forgetting up to the cap, process noise, Huber weighting, the step bound, the gate and
+// a change), so the checks above of the dynamic update's options hold for it too.
+TEST(KalmanUpdate, TheFixedSizeBodyUpdateEqualsTheDynamicOne) {
+  Rng rng(8);
+  KalmanOptions o;
+  o.measurement_sigma = 0.3;
+  o.forgetting = 0.9;
+  o.process_noise = 1e-3;
+  o.max_variance_factor = 3.0;
+  o.huber = 1.5;
+  o.gate = 6.0;
+  o.max_consecutive_outliers = 2;
+  o.max_step = 0.4;
+  const Eigen::VectorXd std0 = RandomStd(rng, 10);
+  KalmanUpdate dynamic(10, 6, std0, o);
+  BodyKalmanUpdate fixed(10, 6, std0, o);
+  int outliers = 0, accepted = 0;
+  for (int sample = 0; sample < 60; ++sample) {
+    const Eigen::MatrixXd H = RandomMatrix(rng, 6, 10);
+    const double scale = sample % 20 >= 10 && sample % 20 < 14 ? 30.0 : 1.0;  // a run of outliers: a change
+    const Eigen::VectorXd r = scale * RandomMatrix(rng, 6, 1);
+    const UpdateStatus a = dynamic.Step(H, r), b = fixed.Step(Matrix6x10(H), Vector6(r));
+    ASSERT_EQ(a, b) << sample;
+    EXPECT_NEAR(dynamic.normalized_innovation(), fixed.normalized_innovation(), 1e-12 * dynamic.normalized_innovation());
+    if (a != UpdateStatus::kAccepted) {
+      ++outliers;
+      continue;
+    }
+    ++accepted;
+    EXPECT_LT((dynamic.step() - fixed.step()).norm(), 1e-12 * (1 + dynamic.step().norm())) << sample;
+    dynamic.Commit(0.7);
+    fixed.Commit(0.7);
+    EXPECT_LT((dynamic.Covariance() - fixed.Covariance()).norm(), 1e-12 * dynamic.Covariance().norm()) << sample;
+  }
+  EXPECT_GT(outliers, 0);
+  EXPECT_GT(accepted, 40);
+  EXPECT_EQ(dynamic.changes_detected(), fixed.changes_detected());
+  EXPECT_GT(fixed.changes_detected(), 0u);
+}
+
+TEST(KalmanUpdate, MatchesTheClosedFormAtAHumanoidsSizeToo) { ExpectClosedForm(200, 9, 2); }
+
+// The products over each row's span of nonzeros (and groups of measurements with different spans,
+// more measurements than one group, sizes that are not whole blocks) give the dense closed form.
+TEST(KalmanUpdate, BlockTriangularMeasurementsMatchTheClosedForm) {
+  ExpectClosedForm(23, 2 * kSpanBlock + 3, 4, true);
+  ExpectClosedForm(61, 7, 5, true);
+  ExpectClosedForm(9, 1, 6, true);
 }
 
 // P <- P / lambda + q 1 before every sample while below the cap (here far above what is reached).

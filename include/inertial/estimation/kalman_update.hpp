@@ -10,9 +10,15 @@
 ///
 /// Forgetting is selective: a parameter the data do not excite stops growing at its cap (its
 /// initial variance times max_variance_factor), so it cannot wind up and random-walk (the others
-/// keep forgetting). Cost O(n^2 m) (m matrix-vector products with P and m rank-one updates; never
-/// n^3), written as vectorized column operations rather than blocked matrix products, which
-/// cost more than they save at these sizes.
+/// keep forgetting).
+/// Cost: P is symmetric and only its lower triangle is kept and updated. A robot's regressor is
+/// block-triangular (a joint's torque depends only on the bodies it carries and its own effects),
+/// so each row of H is nonzero only over a span [first, end) of the parameters; P H^T is formed
+/// from the lower triangle over those spans alone (n (end - first) per measurement, in groups of
+/// kSpanBlock measurements so that each element of P read serves all of them), S over the spans, and
+/// the rank-m downdate of the lower triangle costs n^2 m / 2. Dense H costs 1.5 n^2 m multiply-adds,
+/// a serial chain's about 1.05 n^2 m (against 2 n^2 m for full storage and dense products);
+/// never n^3.
 /// Robustness: samples with sqrt(d^2 / m) > gate are rejected as outliers, unless more than
 /// max_consecutive_outliers in a row arrive (then the world has changed, e.g. a payload was picked
 /// up: P is reset to its initial value around the current estimate, and samples are taken,
@@ -41,20 +47,30 @@ struct KalmanOptions {
   double max_step = 0.5;              ///< bound on |dx|_inf per sample
 };
 
-class KalmanUpdate {
+/// N parameters, M measurements: Eigen::Dynamic for both (any robot; the span products above), or
+/// compile-time sizes (one body: BodyKalmanUpdate, fixed-size dense products with P kept in full,
+/// no padding and no loops over sizes).
+template <int N, int M>
+class BasicKalmanUpdate {
  public:
-  /// @throws std::invalid_argument for sizes < 1, non-positive or non-finite initial_std, or
-  /// options out of range (sigma <= 0, forgetting outside (0, 1], ...).
-  KalmanUpdate(int num_parameters, int num_measurements, const Eigen::VectorXd& initial_std,
-               const KalmanOptions& options);
+  using MatrixH = Eigen::Matrix<double, M, N>;
+  using VectorM = Eigen::Matrix<double, M, 1>;
+  using VectorN = Eigen::Matrix<double, N, 1>;
+  static constexpr bool kDynamic = N == Eigen::Dynamic;
+  static_assert((N == Eigen::Dynamic) == (M == Eigen::Dynamic), "both sizes dynamic or both fixed");
+
+  /// @throws std::invalid_argument for sizes < 1 (or not N, M), non-positive or non-finite
+  /// initial_std, or options out of range (sigma <= 0, forgetting outside (0, 1], ...).
+  BasicKalmanUpdate(int num_parameters, int num_measurements, const Eigen::VectorXd& initial_std,
+                    const KalmanOptions& options);
 
   /// Computes dx from H (m x n) and r (m) and leaves P predicted; kAccepted, kOutlier or
   /// kNumerical. Preconditions (debug-asserted): sizes. The caller applies dx and then Commit()s.
-  UpdateStatus Step(const Eigen::MatrixXd& H, const Eigen::VectorXd& r);
+  UpdateStatus Step(const MatrixH& H, const VectorM& r);
   /// P <- P - f W W^T for the last accepted Step, f = fraction times the step-limit scale (1 for a
   /// full Kalman step): a shortened step takes only part of the sample's information.
   void Commit(double fraction = 1.0);
-  const Eigen::VectorXd& step() const { return dx_; }
+  const VectorN& step() const { return dx_; }
   /// sqrt(d^2 / m) of the last Step (before any Huber weighting), in sigmas.
   double normalized_innovation() const { return normalized_innovation_; }
   /// How often a run of more than max_consecutive_outliers was taken as a change of the system.
@@ -62,31 +78,43 @@ class KalmanUpdate {
 
   /// The covariance of x (full symmetric; allocates).
   Eigen::MatrixXd Covariance() const;
-  /// Parameters from which P is kept as its lower triangle and updated by symmetric blocked
-  /// products; below, P is kept in full and updated by vectorized column operations.
-  static constexpr int kBlockedThreshold = 32;
   /// Replaces P (symmetric, n x n); false if the size is wrong or it is not finite.
   bool SetCovariance(const Eigen::MatrixXd& P);
   const KalmanOptions& options() const { return options_; }
-  int num_parameters() const { return static_cast<int>(P_.rows()); }
-  int num_measurements() const { return static_cast<int>(S_.rows()); }
+  int num_parameters() const { return n_; }
+  int num_measurements() const { return m_; }
 
  private:
-  void Predict(const Eigen::MatrixXd& H);  // PHt_ = P H^T
-  bool Factor(double weight);  // S, its Cholesky factor and z for the current PHt_, r_
+  void Transpose(const MatrixH& H);  // Ht_ = H^T and the spans first_, end_
+  void Predict(const MatrixH& H);    // PHt_ = P H^T
+  bool Factor(const MatrixH& H, double weight);  // S, its Cholesky factor and z for the current PHt_, r_
+  void Forget();                     // the prediction: forgetting and process noise
+  void ResetCovariance();            // P back to its initial value
   KalmanOptions options_;
-  Eigen::MatrixXd P_, PHt_, S_, W_;
-  Eigen::VectorXd cap_, forget_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::VectorXd z_, dx_;
-  const Eigen::MatrixXd* H_ = nullptr;
-  const Eigen::VectorXd* r_ = nullptr;
+  int n_ = 0, m_ = 0;
+  // Dynamic sizes: the lower triangle (the strictly upper part is not kept up to date); P_, Ht_
+  // and PHt_ padded with zeros to whole blocks of the span product. Fixed sizes: P in full.
+  Eigen::Matrix<double, N, N> P_;
+  Eigen::Matrix<double, N, M> Ht_, PHt_, W_;
+  Eigen::Matrix<double, M, M> S_;
+  Eigen::Matrix<int, M, 1> first_, end_;  // per measurement: H's nonzero columns are [first, end)
+  VectorN cap_, forget_;
+  Eigen::LLT<Eigen::Matrix<double, M, M>> llt_;
+  VectorM z_;
+  VectorN dx_;
+  const VectorM* r_ = nullptr;
   int consecutive_outliers_ = 0;
   bool tracking_change_ = false;
   std::uint64_t changes_ = 0;
   double normalized_innovation_ = 0.0;
   double step_scale_ = 1.0;
-  bool blocked_ = false;
 };
+
+/// Any number of parameters and measurements.
+using KalmanUpdate = BasicKalmanUpdate<Eigen::Dynamic, Eigen::Dynamic>;
+/// One body's 10 parameters and the 6 components of its wrench.
+using BodyKalmanUpdate = BasicKalmanUpdate<10, 6>;
+extern template class BasicKalmanUpdate<Eigen::Dynamic, Eigen::Dynamic>;
+extern template class BasicKalmanUpdate<10, 6>;
 
 }  // namespace inertial

@@ -11,12 +11,23 @@
 
 namespace inertial {
 
-class LinearRls final : public RecursiveEstimator {
+/// M measurements, F coefficients: Eigen::Dynamic for both, or one body's 6 and 10 (BodyLinearRls:
+/// fixed-size products and a typed Update(), so that the baseline is as fast as the fixed-size
+/// Gauss-Newton it is compared with).
+template <int M, int F>
+class BasicLinearRls final : public RecursiveEstimator {
  public:
+  using MatrixA = Eigen::Matrix<double, M, F>;
+  using VectorM = Eigen::Matrix<double, M, 1>;
+
   /// @param w0 initial coefficients (e.g. the priors' pi); @param initial_std their uncertainty.
   /// @throws std::invalid_argument for wrong sizes, non-finite w0 or bad options.
-  LinearRls(int num_measurements, const Eigen::VectorXd& w0, const Eigen::VectorXd& initial_std,
-            const KalmanOptions& options = {});
+  BasicLinearRls(int num_measurements, const Eigen::VectorXd& w0, const Eigen::VectorXd& initial_std,
+                 const KalmanOptions& options = {});
+
+  using RecursiveEstimator::Update;
+  /// The same as Update(t, A, y) with the estimator's own types (for fixed sizes: no copies).
+  UpdateStatus Update(double t, const MatrixA& A, const VectorM& y);
 
   std::string_view kind() const override { return "linear_rls"; }
   const Eigen::VectorXd& parameters() const override { return w_; }
@@ -28,8 +39,16 @@ class LinearRls final : public RecursiveEstimator {
   bool SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, std::string* why) override;
 
  private:
-  KalmanUpdate kalman_;
-  Eigen::VectorXd w_, r_;
+  UpdateStatus Step(const MatrixA& A, const VectorM& y);
+  BasicKalmanUpdate<F, M> kalman_;
+  Eigen::VectorXd w_;
+  VectorM r_;
 };
+
+using LinearRls = BasicLinearRls<Eigen::Dynamic, Eigen::Dynamic>;
+/// One body's 10 coefficients pi and its 6-component wrench.
+using BodyLinearRls = BasicLinearRls<6, 10>;
+extern template class BasicLinearRls<Eigen::Dynamic, Eigen::Dynamic>;
+extern template class BasicLinearRls<6, 10>;
 
 }  // namespace inertial

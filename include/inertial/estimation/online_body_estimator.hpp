@@ -4,7 +4,8 @@
 /// force] (what the sensor exerts on the body), optionally gravity g_B in the body frame, and
 /// either the twist's derivative (then w = Y(xi, xi_dot, g) pi, eq. 12) or nothing (then pairs of
 /// successive samples by the paper's implicit midpoint rule, eq. 13). m = 6 measurements, 10
-/// log-Cholesky parameters relative to a prior body. Update() never allocates and never throws.
+/// log-Cholesky parameters relative to a prior body; Gauss-Newton and linear RLS run at compile-time
+/// sizes (BodyGaussNewton, BodyLinearRls). Update() never allocates and never throws.
 #pragma once
 
 #include <memory>
@@ -36,9 +37,13 @@ class OnlineBodyEstimator {
   const ParameterLayout& layout() const { return layout_; }
 
  private:
+  UpdateStatus Use(double t, const Matrix6x10& A, const Vector6& y);
   ParameterLayout layout_;
   EstimatorKind kind_;
   std::unique_ptr<RecursiveEstimator> estimator_;
+  // The same estimator when it is of fixed size (Gauss-Newton, linear RLS), else null.
+  BodyGaussNewton* body_gauss_newton_ = nullptr;
+  BodyLinearRls* body_linear_rls_ = nullptr;
   Eigen::MatrixXd A_;
   Eigen::VectorXd y_, w_;
   bool has_previous_ = false;

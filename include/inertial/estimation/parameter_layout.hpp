@@ -6,8 +6,8 @@
 ///   - scalar blocks: w[f] = x[p] (linear, e.g. an offset), w[f] = e^{x[p]} (a non-negative
 ///     coefficient, as the paper does for friction), or a spring (w[f] = e^{x[p]},
 ///     w[f+1] = e^{x[p]} x[p+1]).
-/// J_w_x is block diagonal; H = A J_w_x is formed block by block (m x 10 times 10 x 10 per body),
-/// never as a dense product. Evaluate() allocates nothing and throws nothing.
+/// J_w_x is block diagonal; H = A J_w_x is formed block by block (each row of A over a body times
+/// its 10 x 10 Jacobian, skipping the rows that are zero over the body), never as a dense product. Evaluate() allocates nothing and throws nothing.
 /// Conventions: pi and theta orders of types.hpp; SI units.
 #pragma once
 

@@ -12,6 +12,7 @@
 /// restarted process continues where it stopped.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include <Eigen/Core>
@@ -73,6 +74,29 @@ class RecursiveEstimator {
  protected:
   RecursiveEstimator(int num_features, int num_measurements)
       : num_features_(num_features), num_measurements_(num_measurements) {}
+  /// What Update() does around the estimator's own update, for entry points with other types
+  /// (the fixed-size body estimators): refuses a sample of wrong sizes, non-finite numbers or a
+  /// time not after the last one, else calls apply(); counts the outcome and keeps the time.
+  template <class ApplyFn>
+  UpdateStatus Admit(double t, bool sizes_ok, bool finite, ApplyFn&& apply) {
+    UpdateStatus status = UpdateStatus::kAccepted;
+    if (!sizes_ok) {
+      status = UpdateStatus::kWrongSize;
+    } else if (!std::isfinite(t) || !finite) {
+      status = UpdateStatus::kNonFinite;
+    } else if (has_time_ && !(t > last_time_)) {
+      status = UpdateStatus::kOutOfOrder;
+    } else {
+      status = apply();
+    }
+    counters_.Add(status);
+    if (status == UpdateStatus::kAccepted || status == UpdateStatus::kOutlier) {
+      // An outlier is still a valid sample in time: later samples must come after it.
+      has_time_ = true;
+      last_time_ = t;
+    }
+    return status;
+  }
   /// The estimator's own update of a validated sample; must leave the estimate untouched unless it
   /// returns kAccepted.
   virtual UpdateStatus Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) = 0;

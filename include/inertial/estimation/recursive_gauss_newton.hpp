@@ -24,13 +24,25 @@ struct RecursiveGaussNewtonOptions {
   int max_halvings = 4;
 };
 
-class RecursiveGaussNewton final : public RecursiveEstimator {
+/// N parameters, M measurements, F features: Eigen::Dynamic for all three (any layout), or one
+/// body's 10, 6, 10 (BodyGaussNewton: fixed-size products throughout, and a typed Update()).
+template <int N, int M, int F>
+class BasicRecursiveGaussNewton final : public RecursiveEstimator {
  public:
+  using MatrixA = Eigen::Matrix<double, M, F>;
+  using VectorM = Eigen::Matrix<double, M, 1>;
+  static constexpr bool kDynamic = N == Eigen::Dynamic;
+
   /// @param x0 initial parameters (e.g. zeros: the priors; or a batch fit);
   /// @param initial_std standard deviation of each parameter's initial uncertainty.
-  /// @throws std::invalid_argument for wrong sizes, non-finite x0 or bad options.
-  RecursiveGaussNewton(ParameterLayout layout, int num_measurements, const Eigen::VectorXd& x0,
-                       const Eigen::VectorXd& initial_std, const RecursiveGaussNewtonOptions& options = {});
+  /// @throws std::invalid_argument for wrong sizes (of a fixed-size estimator: a layout that is not
+  /// one body), non-finite x0 or bad options.
+  BasicRecursiveGaussNewton(ParameterLayout layout, int num_measurements, const Eigen::VectorXd& x0,
+                            const Eigen::VectorXd& initial_std, const RecursiveGaussNewtonOptions& options = {});
+
+  using RecursiveEstimator::Update;
+  /// The same as Update(t, A, y) with the estimator's own types (for fixed sizes: no copies).
+  UpdateStatus Update(double t, const MatrixA& A, const VectorM& y);
 
   std::string_view kind() const override { return "gauss_newton"; }
   const Eigen::VectorXd& parameters() const override { return x_; }
@@ -45,11 +57,22 @@ class RecursiveGaussNewton final : public RecursiveEstimator {
   bool SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, std::string* why) override;
 
  private:
+  UpdateStatus Step(const MatrixA& A, const VectorM& y);
+  void Evaluate(const MatrixA& A);  // w_ and H_ at x_
+  void CoefficientsAt(const Eigen::VectorXd& x);  // w_ at x
   ParameterLayout layout_;
   RecursiveGaussNewtonOptions options_;
-  KalmanUpdate kalman_;
-  Eigen::VectorXd x_, x_trial_, w_, r_;
-  Eigen::MatrixXd H_;
+  BasicKalmanUpdate<N, M> kalman_;
+  Eigen::VectorXd x_, x_trial_;
+  Eigen::Matrix<double, F, 1> w_;
+  VectorM r_;
+  Eigen::Matrix<double, M, N> H_;
 };
+
+using RecursiveGaussNewton = BasicRecursiveGaussNewton<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+/// One body (ParameterLayout::SingleBody) and its 6-component wrench.
+using BodyGaussNewton = BasicRecursiveGaussNewton<10, 6, 10>;
+extern template class BasicRecursiveGaussNewton<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+extern template class BasicRecursiveGaussNewton<10, 6, 10>;
 
 }  // namespace inertial
