@@ -44,7 +44,9 @@ inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::Vecto
   const int n = model.num_dofs();
   const FourierTrajectory train_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed);
   const FourierTrajectory test_ref = RandomFourierTrajectory(n, 5, 0.1, 0.9, seed + 1);
-  SetTrackingGainsFromInertia(plant, train_ref.Evaluate(0.0).q, 5.0, 0.7, &options);
+  const double bandwidth = 2 * M_PI * 5.0;  // computed torque: a 5 Hz, 0.7-damped loop per joint
+  options.kp = Eigen::VectorXd::Constant(1, bandwidth * bandwidth);
+  options.kd = Eigen::VectorXd::Constant(1, 2 * 0.7 * bandwidth);
   SimulatedLogs s;
   s.train = AddGaussianNoise(SimulateTracking(plant, plant, [&](double t) { return train_ref.Evaluate(t); }, options,
                                               model.dof_names()),

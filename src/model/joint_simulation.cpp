@@ -5,8 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "inertial/model/closed_loop_rate.hpp"
 
 namespace inertial {
 namespace {
@@ -14,6 +17,14 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 std::string Num(double x) { return std::to_string(x); }
+
+// Six significant digits, no trailing zeros: times and rates in messages.
+std::string Short(double x) {
+  std::ostringstream out;
+  out.precision(6);
+  out << x;
+  return out.str();
+}
 
 // The sample grid and the internal step derived from the options.
 struct Timing {
@@ -122,6 +133,50 @@ void AddNoise(double sigma, const char* name, NormalSource& normal, Eigen::Matri
 
 }  // namespace
 
+namespace {
+
+// The plant's bias and mass matrix at (q, qd), factored, or what is wrong with them.
+struct PlantAt {
+  Eigen::VectorXd bias;  // id(q, qd, 0)
+  Eigen::LLT<Eigen::MatrixXd> mass;
+  enum class Failure { kNone, kNonFinite, kNotPositiveDefinite } failure = Failure::kNone;
+};
+
+PlantAt EvaluatePlant(const JointDynamicsFn& id, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  const Eigen::Index n = q.size();
+  PlantAt p;
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+  p.bias = id(q, qd, e);
+  if (p.bias.size() != n) {
+    throw std::invalid_argument("forward dynamics: inverse dynamics returned " + std::to_string(p.bias.size()) +
+                                " torques for " + std::to_string(n) + " joints");
+  }
+  Eigen::MatrixXd M(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    e[k] = 1.0;
+    const Eigen::VectorXd column = id(q, qd, e);
+    if (column.size() != n) {
+      throw std::invalid_argument("forward dynamics: inverse dynamics returned " + std::to_string(column.size()) +
+                                  " torques for " + std::to_string(n) + " joints");
+    }
+    M.col(k) = column - p.bias;
+    e[k] = 0.0;
+  }
+  if (!p.bias.allFinite() || !M.allFinite()) {
+    p.failure = PlantAt::Failure::kNonFinite;
+    return p;
+  }
+  p.mass.compute(0.5 * (M + M.transpose()));
+  if (p.mass.info() != Eigen::Success) p.failure = PlantAt::Failure::kNotPositiveDefinite;
+  return p;
+}
+
+constexpr const char* kNonFiniteText = "inverse dynamics returned non-finite values at this state";
+constexpr const char* kNotPositiveDefiniteText =
+    "the mass matrix (qdd coefficient of the inverse dynamics) is not positive definite";
+
+}  // namespace
+
 Eigen::VectorXd ForwardDynamics(const JointDynamicsFn& id, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                 const Eigen::VectorXd& tau) {
   const Eigen::Index n = q.size();
@@ -129,32 +184,32 @@ Eigen::VectorXd ForwardDynamics(const JointDynamicsFn& id, const Eigen::VectorXd
     throw std::invalid_argument("forward dynamics: q, qd, tau have sizes " + std::to_string(n) + ", " +
                                 std::to_string(qd.size()) + ", " + std::to_string(tau.size()));
   }
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd h = id(q, qd, e);
-  if (h.size() != n) {
-    throw std::invalid_argument("forward dynamics: inverse dynamics returned " + std::to_string(h.size()) +
-                                " torques for " + std::to_string(n) + " joints");
+  const PlantAt p = EvaluatePlant(id, q, qd);
+  if (p.failure == PlantAt::Failure::kNonFinite) {
+    throw std::invalid_argument(std::string("forward dynamics: ") + kNonFiniteText);
   }
-  Eigen::MatrixXd M(n, n);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    e[k] = 1.0;
-    M.col(k) = id(q, qd, e) - h;
-    e[k] = 0.0;
+  if (p.failure == PlantAt::Failure::kNotPositiveDefinite) {
+    throw std::invalid_argument(std::string("forward dynamics: ") + kNotPositiveDefiniteText);
   }
-  if (!h.allFinite() || !M.allFinite()) {
-    throw std::invalid_argument("forward dynamics: inverse dynamics returned non-finite values at this state");
-  }
-  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M + M.transpose()));
-  if (llt.info() != Eigen::Success) {
-    throw std::invalid_argument("forward dynamics: the mass matrix (qdd coefficient of the inverse dynamics) is not "
-                                "positive definite");
-  }
-  return llt.solve(tau - h);
+  return p.mass.solve(tau - p.bias);
 }
 
-JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerFn& controller,
-                            const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
-                            const JointSimulationOptions& options, const std::vector<std::string>& joint_names) {
+SimulationDiverged::SimulationDiverged(double time, const std::string& reason)
+    : std::invalid_argument("the simulation diverged at t = " + Short(time) + " s (" + reason + ")"),
+      time_(time),
+      reason_(reason) {}
+
+namespace {
+
+// Where the state is: the size of q and qd, for the reason of a divergence.
+std::string StateText(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  return "max |q| = " + Short(q.cwiseAbs().maxCoeff()) + ", max |qd| = " + Short(qd.cwiseAbs().maxCoeff());
+}
+
+JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& controller,
+                       const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
+                       const JointSimulationOptions& options, const std::vector<std::string>& joint_names,
+                       JointSimulationStats* stats) {
   const int n = static_cast<int>(q_start.size());
   if (n < 1 || qd_start.size() != n) {
     throw std::invalid_argument("joint simulation: initial q and qd have sizes " + std::to_string(n) + " and " +
@@ -165,7 +220,10 @@ JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerF
   }
   const Timing timing = CheckTiming(options, true);
   JointSamples out = Allocate(timing.num_samples, n, joint_names);
-  const double h = timing.step;
+  JointSimulationStats local_stats;
+  JointSimulationStats& st = stats != nullptr ? *stats : local_stats;
+  st = JointSimulationStats();
+  st.max_rate_time = options.start_time;
 
   auto command = [&](double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     Eigen::VectorXd tau = controller(t, q, qd);
@@ -177,50 +235,107 @@ JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerF
     return tau;
   };
 
-  Eigen::VectorXd q = q_start, qd = qd_start;
   double t = options.start_time;
+  bool initial = true;  // the first evaluation, at the initial state: failures there are the model's
+  // The plant at (q, qd): a failure at the initial state is a model error, past it a divergence.
+  auto plant_at = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    PlantAt p = EvaluatePlant(plant, q, qd);
+    if (p.failure != PlantAt::Failure::kNone) {
+      const char* what = p.failure == PlantAt::Failure::kNonFinite ? kNonFiniteText : kNotPositiveDefiniteText;
+      if (initial) {
+        throw std::invalid_argument(std::string("the model: ") + what +
+                                    " at the initial state (a model error, not a diverged simulation)");
+      }
+      throw SimulationDiverged(t, std::string(what) + " at the state reached, " + StateText(q, qd));
+    }
+    return p;
+  };
+  auto forward = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& tau) {
+    const PlantAt p = plant_at(q, qd);
+    return Eigen::VectorXd(p.mass.solve(tau - p.bias));
+  };
+
+  Eigen::VectorXd q = q_start, qd = qd_start;
   try {
     for (int i = 0; i < timing.num_samples; ++i) {
       const double t_i = options.start_time + i * timing.sample_period;
-      const int steps = i + 1 < timing.num_samples ? timing.steps_per_sample : 0;
       t = t_i;
       Eigen::VectorXd tau = command(t, q, qd);
-      Eigen::VectorXd qdd = ForwardDynamics(plant, q, qd, tau);
+      const PlantAt at_sample = plant_at(q, qd);
+      initial = false;
+      Eigen::VectorXd qdd = at_sample.mass.solve(tau - at_sample.bias);
       out.t[i] = t_i;
       out.q.row(i) = q.transpose();
       out.qd.row(i) = qd.transpose();
       out.qdd.row(i) = qdd.transpose();
       out.tau.row(i) = tau.transpose();
       if (options.progress) options.progress(static_cast<double>(i + 1) / timing.num_samples);
+      if (i + 1 == timing.num_samples) break;
+
+      // The steps of this interval from the loop's rate here (the sample's own mass matrix).
+      const double rho = StepRate(at_sample.mass, DifferencedPlantSlopes(plant, q, qd, qdd),
+                                  DifferencedCommandSlopes(controller, t, q, qd, tau));
+      const double needed = StepsPerSample(timing.sample_period, rho, timing.steps_per_sample);
+      const double most = MaxStepsPerSample(timing.sample_period);
+      if (!(needed <= most)) {
+        throw SimulationDiverged(
+            t, std::isfinite(rho)
+                   ? "the loop's fastest mode is " + Short(rho) + " 1/s: RK4 would need " + Short(needed) +
+                         " steps per sample of " + Short(timing.sample_period) + " s, more than the " + Short(most) +
+                         " of the shortest step " + Short(kShortestStep) + " s; " + StateText(q, qd)
+                   : "the loop's Jacobian is non-finite: the plant or the command is not finite beside the "
+                     "state reached, " + StateText(q, qd));
+      }
+      const int steps = static_cast<int>(needed);
+      const double h = timing.sample_period / steps;
+      if (rho > st.max_rate) {
+        st.max_rate = rho;
+        st.max_rate_time = t;
+      }
+      st.min_steps_per_sample = st.min_steps_per_sample == 0 ? steps : std::min(st.min_steps_per_sample, steps);
+      st.max_steps_per_sample = std::max(st.max_steps_per_sample, steps);
+      st.total_steps += steps;
+
       for (int s = 0; s < steps; ++s) {
         if (s > 0) {
           t = t_i + s * h;
           tau = command(t, q, qd);
-          qdd = ForwardDynamics(plant, q, qd, tau);
+          qdd = forward(q, qd, tau);
         }
         // Classical RK4 on (q, qd) with tau held: k1 = (qd, qdd).
         const Eigen::VectorXd v2 = qd + 0.5 * h * qdd;
-        const Eigen::VectorXd a2 = ForwardDynamics(plant, q + 0.5 * h * qd, v2, tau);
+        const Eigen::VectorXd a2 = forward(q + 0.5 * h * qd, v2, tau);
         const Eigen::VectorXd v3 = qd + 0.5 * h * a2;
-        const Eigen::VectorXd a3 = ForwardDynamics(plant, q + 0.5 * h * v2, v3, tau);
+        const Eigen::VectorXd a3 = forward(q + 0.5 * h * v2, v3, tau);
         const Eigen::VectorXd v4 = qd + h * a3;
-        const Eigen::VectorXd a4 = ForwardDynamics(plant, q + h * v3, v4, tau);
+        const Eigen::VectorXd a4 = forward(q + h * v3, v4, tau);
         q += (h / 6.0) * (qd + 2.0 * v2 + 2.0 * v3 + v4);
         qd += (h / 6.0) * (qdd + 2.0 * a2 + 2.0 * a3 + a4);
         if (!q.allFinite() || !qd.allFinite()) {
-          throw std::invalid_argument("the state (q, qd) became non-finite in the step of " + Num(h) + " s");
+          throw SimulationDiverged(t, "the state (q, qd) became non-finite in a step of " + Short(h) + " s");
         }
       }
     }
+  } catch (const SimulationDiverged&) {
+    throw;
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("joint simulation at t = " + Num(t) + " s: " + e.what());
   }
   return out;
 }
 
+}  // namespace
+
+JointSamples SimulateJoints(const JointDynamicsFn& plant, const JointControllerFn& controller,
+                            const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
+                            const JointSimulationOptions& options, const std::vector<std::string>& joint_names,
+                            JointSimulationStats* stats) {
+  return Integrate(plant, controller, q_start, qd_start, options, joint_names, stats);
+}
+
 JointSamples SimulateTracking(const JointDynamicsFn& plant, const JointDynamicsFn& nominal,
                               const JointReferenceFn& reference, const JointSimulationOptions& options,
-                              const std::vector<std::string>& joint_names) {
+                              const std::vector<std::string>& joint_names, JointSimulationStats* stats) {
   CheckTiming(options, true);  // option errors before anything is evaluated
   const JointTrajectoryPoint start = reference(options.start_time);
   const int n = static_cast<int>(start.q.size());
@@ -228,17 +343,24 @@ JointSamples SimulateTracking(const JointDynamicsFn& plant, const JointDynamicsF
   CheckPoint(start, n, options.start_time);
   const Eigen::VectorXd kp = Broadcast(options.kp, n, "kp");
   const Eigen::VectorXd kd = Broadcast(options.kd, n, "kd");
+  // The reference of the last time asked for: the rate's differences ask 2n times at one time.
+  double ref_time = std::numeric_limits<double>::quiet_NaN();
+  JointTrajectoryPoint ref;
   auto controller = [&](double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) -> Eigen::VectorXd {
-    const JointTrajectoryPoint ref = reference(t);
-    CheckPoint(ref, n, t);
-    const Eigen::VectorXd ff = nominal(ref.q, ref.qd, ref.qdd);
-    if (ff.size() != n) {
-      throw std::invalid_argument("nominal model returned " + std::to_string(ff.size()) + " torques for " +
+    if (!(t == ref_time)) {
+      ref = reference(t);
+      CheckPoint(ref, n, t);
+      ref_time = t;
+    }
+    const Eigen::VectorXd tau =
+        nominal(q, qd, ref.qdd + kp.cwiseProduct(ref.q - q) + kd.cwiseProduct(ref.qd - qd));
+    if (tau.size() != n) {
+      throw std::invalid_argument("nominal model returned " + std::to_string(tau.size()) + " torques for " +
                                   std::to_string(n) + " joints");
     }
-    return ff + kp.cwiseProduct(ref.q - q) + kd.cwiseProduct(ref.qd - qd);
+    return tau;
   };
-  return SimulateJoints(plant, controller, start.q, start.qd, options, joint_names);
+  return Integrate(plant, controller, start.q, start.qd, options, joint_names, stats);
 }
 
 JointSamples SampleTrajectory(const JointDynamicsFn& id, const JointReferenceFn& reference,
@@ -274,22 +396,6 @@ JointSamples AddGaussianNoise(const JointSamples& samples, const SampleNoise& si
   AddNoise(sigma.qdd, "qdd", normal, &out.qdd);
   AddNoise(sigma.tau, "tau", normal, &out.tau);
   return out;
-}
-
-void SetTrackingGainsFromInertia(const JointDynamicsFn& id, const Eigen::VectorXd& q, double bandwidth_hz,
-                                 double damping_ratio, JointSimulationOptions* options) {
-  const int n = static_cast<int>(q.size());
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd bias = id(q, zero, zero);
-  if (bias.size() != n) throw std::invalid_argument("tracking gains: the inverse dynamics returned a wrong size");
-  Eigen::VectorXd m(n);
-  for (int k = 0; k < n; ++k) {
-    m[k] = id(q, zero, Eigen::VectorXd::Unit(n, k))[k] - bias[k];
-    if (!(m[k] > 0)) throw std::invalid_argument("tracking gains: mass matrix diagonal " + std::to_string(k) + " is not positive");
-  }
-  const double w = 2 * M_PI * bandwidth_hz;
-  options->kp = w * w * m;
-  options->kd = 2 * damping_ratio * w * m;
 }
 
 }  // namespace inertial

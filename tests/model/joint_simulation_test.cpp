@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -186,7 +187,7 @@ TEST(JointSimulation, SmallAnglePendulumPeriod) {
   EXPECT_NEAR(s.q.col(0).maxCoeff(), -kPi / 2 + theta0, 1e-6);
 }
 
-// (d) With the true model as feedforward, the plant follows the reference up to the zero-order
+// (d) With the true model in the computed torque, the plant follows the reference up to the zero-order
 // hold; with an approximate model (masses 20 % off, no friction), feedback keeps errors small.
 // At every sample, the plant's dynamics hold exactly: id(q, qd, qdd) = tau.
 TEST(JointSimulation, TrackingFollowsTheReference) {
@@ -290,6 +291,160 @@ TEST(JointSimulation, GaussianNoiseStatisticsAndSeed) {
   EXPECT_NE(AddGaussianNoise(clean, sigma, 100).qdd, noisy.qdd);
 }
 
+// Computed torque with the plant as its own model makes every joint's error the linear loop e'' +
+// kd e' + kp e = 0, whatever the robot: on a random tree with a geared rotor, gravity, viscous and
+// (smoothed) Coulomb friction, a reference that steps by d just after the start is approached as
+// the closed form of a critically damped loop of bandwidth w (kp = w^2, kd = 2 w):
+// e(t) = d (1 + w t) e^(-w t), joint by joint.
+TEST(JointSimulation, ComputedTorqueMakesEveryJointsErrorTheLinearLoop) {
+  Rng rng(8);
+  const KinematicTree tree = RandomTree(rng);
+  const int n = tree.num_dofs();
+  const Vector3 g(0, 0, -9.81);
+  const Eigen::VectorXd b = RandomVector(rng, n, 0.1, 1.0), bc = RandomVector(rng, n, 0.1, 0.5);
+  const JointDynamicsFn plant = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    const Eigen::VectorXd coulomb = bc.cwiseProduct((qd / 0.05).array().tanh().matrix());
+    return (tree.InverseDynamics(q, qd, qdd, g) + b.cwiseProduct(qd) + coulomb).eval();
+  };
+  const FourierTrajectory traj = RandomFourierTrajectory(n, 3, 0.2, 0.5, 6);
+  const Eigen::VectorXd d = RandomVector(rng, n, -0.05, 0.05);
+  const JointReferenceFn stepped = [&](double t) {
+    JointTrajectoryPoint p = traj.Evaluate(t);
+    if (t > 0) p.q += d;
+    return p;
+  };
+  const double w = 20;
+  JointSimulationOptions options;
+  options.duration = 1.0;
+  options.kp = Eigen::VectorXd::Constant(1, w * w);
+  options.kd = Eigen::VectorXd::Constant(1, 2 * w);
+  const JointSamples s = SimulateTracking(plant, plant, stepped, options);
+  double worst = 0;
+  for (int i = 1; i < s.size(); ++i) {
+    const double t = s.t[i];
+    const Eigen::VectorXd e = traj.Evaluate(t).q + d - s.q.row(i).transpose();
+    worst = std::max(worst, (e - d * (1 + w * t) * std::exp(-w * t)).cwiseAbs().maxCoeff());
+  }
+  // The command is held over steps of 2e-4 s (h w = 0.004): the response lags the continuous one
+  // by about half a step, an error of order h w |d| / 2.
+  std::cout << "largest departure from the linear loop: " << worst << " (steps of " << d.cwiseAbs().maxCoeff() << ")\n";
+  EXPECT_LT(worst, 4e-3 * d.cwiseAbs().maxCoeff());
+  EXPECT_TRUE(s.q.row(0).transpose() == traj.Evaluate(0).q);  // starts on the unstepped reference
+}
+
+// Every sample interval gets enough steps for its loop: a loop of w = 5000 1/s on one joint
+// (rho = w) at 1 kHz gets ceil(1e-3 w) = 5 steps where the base step (5e-4 s, h w = 2.5, beyond
+// the held PD loop's limit 1 / zeta = 1.43) would diverge, and tracks its reference.
+TEST(JointSimulation, StepsFollowTheClosedLoopsRate) {
+  const double I = 1e-3, w = 5000, zeta = 0.7;
+  const JointDynamicsFn inertia = [I](const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
+    return (I * qdd).eval();
+  };
+  const FourierTrajectory traj = RandomFourierTrajectory(1, 3, 1.0, 0.5, 4);
+  JointSimulationOptions options;
+  options.duration = 0.5;
+  options.sample_rate_hz = 1000;
+  options.internal_step = 5e-4;
+  options.kp = Eigen::VectorXd::Constant(1, w * w);
+  options.kd = Eigen::VectorXd::Constant(1, 2 * zeta * w);
+  JointSimulationStats stats;
+  const JointSamples s = SimulateTracking(inertia, inertia, Reference(traj), options, {}, &stats);
+  EXPECT_NEAR(stats.max_rate, w, 1e-6 * w);
+  EXPECT_EQ(stats.min_steps_per_sample, 5);
+  EXPECT_EQ(stats.max_steps_per_sample, 5);
+  EXPECT_EQ(stats.total_steps, 5 * 500);
+  double worst = 0;
+  for (int i = 0; i < s.size(); ++i) worst = std::max(worst, std::abs(s.q(i, 0) - traj.Evaluate(s.t[i]).q[0]));
+  EXPECT_LT(worst, 1e-6);  // the feedforward is exact: only the hold deviates
+
+  // Coulomb friction 0.1 tanh(qd / 0.01) on a light joint (1e-4 kg m^2) with a spring (1 N m/rad),
+  // released at rest from q = 1: at every velocity reversal the friction's slope 10 N m s/rad makes
+  // a real mode near -1e5 1/s, which gets ceil(1e-3 * 1e5) = 100 steps; between reversals the
+  // base 2. The oscillation decays by 2 bc / k = 0.2 rad per half cycle and sticks within the
+  // friction band |q| < bc / k = 0.1 (creeping at the smoothed friction's velocity).
+  const JointDynamicsFn dry = [](const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return Eigen::VectorXd::Constant(1, 1e-4 * qdd[0] + 0.1 * std::tanh(qd[0] / 0.01) + q[0]);
+  };
+  options.duration = 0.3;
+  const JointSamples free = SimulateJoints(dry, kPassive, Eigen::VectorXd::Ones(1), Eigen::VectorXd::Zero(1), options,
+                                           {}, &stats);
+  const double peak = (10.0 + std::sqrt(100.0 - 4e-4)) / 2e-4;  // 1e-4 s^2 + 10 s + 1 = 0
+  EXPECT_NEAR(stats.max_rate, peak, 1e-4 * peak);
+  EXPECT_EQ(stats.max_steps_per_sample, 100);
+  EXPECT_EQ(stats.min_steps_per_sample, 2);
+  EXPECT_LT(std::abs(free.q(free.size() - 1, 0)), 0.1);
+  EXPECT_LT(free.qd.cwiseAbs().maxCoeff(), 101.0);  // at most the undamped w0 q0 = 100 rad/s
+  for (int i = 0; i < free.size(); i += 7) {
+    EXPECT_NEAR(dry(free.q.row(i).transpose(), free.qd.row(i).transpose(), free.qdd.row(i).transpose())[0],
+                free.tau(i, 0), 1e-12);
+  }
+}
+
+// Failures past the initial state are divergences, with the time and the reason; a model that is
+// not one at the initial state is named as the model's error.
+TEST(JointSimulation, DivergenceIsReportedAsSuch) {
+  JointSimulationOptions options;
+  options.duration = 2.0;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(1), one = Eigen::VectorXd::Ones(1);
+  // A joint of 1e-7 kg m^2 with 1 N m s/rad of damping: a real mode at -1e7 1/s, which would need
+  // 1e4 steps per 1 ms sample.
+  const JointDynamicsFn stiff = [](const Eigen::VectorXd&, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return (1e-7 * qdd + qd).eval();
+  };
+  try {
+    SimulateJoints(stiff, kPassive, zero, one, options);
+    ADD_FAILURE() << "no exception";
+  } catch (const SimulationDiverged& e) {
+    EXPECT_EQ(e.time(), 0.0);
+    // 10000 steps, or 10001 where the differenced slope rounds a few 1e-9 above 1.
+    EXPECT_TRUE(std::regex_match(std::string(e.what()),
+                                 std::regex("the simulation diverged at t = 0 s \\(the loop's fastest mode is 1e\\+07 "
+                                            "1/s: RK4 would need 1000[01] steps per sample of 0\\.001 s, more than the "
+                                            "2000 of the shortest step 5e-07 s; max \\|q\\| = 0, max \\|qd\\| = 1\\)")))
+        << e.what();
+  }
+  // qdd = 10 qd^2 from qd = 1: qd = 1 / (1 - 10 t) runs away at t = 0.1 s.
+  const JointDynamicsFn blow_up = [](const Eigen::VectorXd&, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+    return (qdd - 10.0 * qd.cwiseProduct(qd)).eval();
+  };
+  try {
+    SimulateJoints(blow_up, kPassive, zero, one, options);
+    ADD_FAILURE() << "no exception";
+  } catch (const SimulationDiverged& e) {
+    EXPECT_NEAR(e.time(), 0.1, 1e-3);
+    EXPECT_EQ(std::string(e.what()).rfind("the simulation diverged at t = ", 0), 0u) << e.what();
+  }
+  // The mass 1 - q of a joint moving at qd = 1 from q = 0 vanishes at t = 1 s.
+  const JointDynamicsFn vanishing = [](const Eigen::VectorXd& q, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
+    return ((1.0 - q.array()) * qdd.array()).matrix().eval();
+  };
+  try {
+    SimulateJoints(vanishing, kPassive, zero, one, options);
+    ADD_FAILURE() << "no exception";
+  } catch (const SimulationDiverged& e) {
+    EXPECT_NEAR(e.time(), 1.0, 1e-3);
+    EXPECT_NE(std::string(e.what()).find("the mass matrix (qdd coefficient of the inverse dynamics) is not positive "
+                                         "definite at the state reached, max |q| = 1"),
+              std::string::npos)
+        << e.what();
+  }
+  // A mass matrix that is not positive definite at the start: the model's error, no divergence.
+  const JointDynamicsFn negative = [](const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
+    return (-qdd).eval();
+  };
+  try {
+    SimulateJoints(negative, kPassive, zero, one, options);
+    ADD_FAILURE() << "no exception";
+  } catch (const SimulationDiverged& e) {
+    ADD_FAILURE() << "reported as a divergence: " << e.what();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("is not positive definite at the initial state (a model error, not a "
+                                         "diverged simulation)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // (f) Errors: bad options and sizes, a singular mass matrix, a diverging state.
 TEST(JointSimulation, RejectsBadInput) {
   const JointDynamicsFn unit_mass = [](const Eigen::VectorXd&, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
@@ -330,7 +485,8 @@ TEST(JointSimulation, RejectsBadInput) {
   EXPECT_NO_THROW(SimulateTracking(unit_mass, unit_mass, Reference(traj), ok));
 
   // The error names the simulation time: qdd = 10 qd^2 from qd = 1 blows up at t = 0.1 s; a plant
-  // whose model is undefined beyond q = 1.5 (NaN) is left at t = 0.5 s.
+  // whose model is undefined beyond q = 1.5 (NaN) is left at t = 0.5 s. Both are past the initial
+  // state: divergences.
   auto error_time = [&](const JointDynamicsFn& plant, const std::string& expected_words) {
     JointSimulationOptions longer = ok;
     longer.duration = 1.0;
@@ -349,11 +505,12 @@ TEST(JointSimulation, RejectsBadInput) {
   const JointDynamicsFn blow_up = [](const Eigen::VectorXd&, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
     return (qdd - 10.0 * qd.cwiseProduct(qd)).eval();
   };
-  EXPECT_NEAR(error_time(blow_up, "joint simulation"), 0.1, 1e-3);
+  EXPECT_NEAR(error_time(blow_up, "the simulation diverged at t = "), 0.1, 1e-3);
   const JointDynamicsFn undefined = [](const Eigen::VectorXd& q, const Eigen::VectorXd&, const Eigen::VectorXd& qdd) {
     return (qdd + 0.0 * (1.5 - q.array()).sqrt().matrix()).eval();
   };
   EXPECT_NEAR(error_time(undefined, "non-finite"), 0.5, 1e-3);
+  EXPECT_NEAR(error_time(undefined, "the simulation diverged at t = "), 0.5, 1e-3);
 
   EXPECT_THROW(AddGaussianNoise(JointSamples(), SampleNoise{-1.0, 0, 0, 0}, 1), std::invalid_argument);
   EXPECT_THROW(AddGaussianNoise(JointSamples(), SampleNoise{0, 0, 0, kNaN}, 1), std::invalid_argument);
