@@ -8,7 +8,7 @@ namespace inertial {
 
 namespace {
 using Packet = Eigen::internal::packet_traits<double>::type;
-constexpr int kLanes = Eigen::internal::unpacket_traits<Packet>::size;
+constexpr int kLanes = Eigen::internal::packet_traits<double>::size;  // doubles per Packet
 static_assert(kSpanBlock % kLanes == 0, "a panel's rows must be whole packets");
 }  // namespace
 

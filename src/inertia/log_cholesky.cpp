@@ -113,16 +113,28 @@ Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi
   if (J_pi_theta != nullptr) {
     // dJ = dU B + (dU B)^T, and pi is linear in J. Every dU but alpha's has a single non-zero
     // entry v at (row, col), so dU B is v times row `col` of B placed in row `row`.
-    const double ea = std::exp(theta[kAlpha]);
+    // With b = v B(col, :), J' = e_row b^T + b e_row^T (row < 3) has mass 0, h' = b_3 e_row and
+    // Sigma' = e_row b^T + b e_row^T on the 3 x 3 block, so I' = 2 b_row 1 - Sigma': written out,
+    // not through a 4 x 4 and PiFromPseudoInertia (the Jacobian is on the estimator's every tick).
+    const double ea = U(3, 3);  // e^alpha (U = e^alpha [...; 0 0 0 1])
     auto column = [&](int row, int col, double v) {
-      Matrix4 A = Matrix4::Zero();
-      A.row(row) = v * B.row(col);
-      return PiFromPseudoInertia(A + A.transpose());
+      const Eigen::Vector4d b = v * B.row(col).transpose();
+      Vector10 c = Vector10::Zero();
+      c[pi_ix::kHx + row] = b[3];
+      const double tr = 2.0 * b[row];
+      c[pi_ix::kIxx] = tr - (row == 0 ? 2.0 * b[0] : 0.0);
+      c[pi_ix::kIyy] = tr - (row == 1 ? 2.0 * b[1] : 0.0);
+      c[pi_ix::kIzz] = tr - (row == 2 ? 2.0 * b[2] : 0.0);
+      c[pi_ix::kIxy] = -((row == 0 ? b[1] : 0.0) + (row == 1 ? b[0] : 0.0));
+      c[pi_ix::kIyz] = -((row == 1 ? b[2] : 0.0) + (row == 2 ? b[1] : 0.0));
+      c[pi_ix::kIxz] = -((row == 0 ? b[2] : 0.0) + (row == 2 ? b[0] : 0.0));
+      return c;
     };
     J_pi_theta->col(kAlpha) = 2.0 * pi;
-    J_pi_theta->col(kD1) = column(0, 0, ea * std::exp(theta[kD1]));
-    J_pi_theta->col(kD2) = column(1, 1, ea * std::exp(theta[kD2]));
-    J_pi_theta->col(kD3) = column(2, 2, ea * std::exp(theta[kD3]));
+    // dU/d d_i = U(i, i) e_i e_i^T (U(i, i) = e^alpha e^{d_i}).
+    J_pi_theta->col(kD1) = column(0, 0, U(0, 0));
+    J_pi_theta->col(kD2) = column(1, 1, U(1, 1));
+    J_pi_theta->col(kD3) = column(2, 2, U(2, 2));
     J_pi_theta->col(kS12) = column(0, 1, ea);
     J_pi_theta->col(kS23) = column(1, 2, ea);
     J_pi_theta->col(kS13) = column(0, 2, ea);

@@ -162,6 +162,58 @@ TEST(KalmanUpdate, ForgettingAndProcessNoisePredictTheCovariance) {
   }
 }
 
+// A sample refused by the gate (never committed) still forgets: the prediction is applied before
+// the next sample and shows in Covariance() meanwhile; a covariance saved at that moment and
+// restored into a fresh update continues bit for bit. Dynamic and fixed sizes, block-triangular H.
+template <class Update>
+void RefusedSamplesStillForget(int n, int m, Eigen::MatrixXd (*make_h)(Rng&, int, int)) {
+  Rng rng(31);
+  const double sigma = 0.3, lambda = 0.9, q = 0.02;
+  KalmanOptions o = Plain(sigma);
+  o.forgetting = lambda;
+  o.process_noise = q;
+  o.max_variance_factor = 1e6;
+  o.gate = 50.0;
+  const Eigen::VectorXd std0 = RandomStd(rng, n);
+  Update k(n, m, std0, o);
+  Reference ref{Eigen::MatrixXd(std0.array().square().matrix().asDiagonal())};
+  for (int sample = 0; sample < 30; ++sample) {
+    const typename Update::MatrixH H = make_h(rng, m, n);
+    const bool glitch = sample % 7 == 3;
+    const typename Update::VectorM r = RandomMatrix(rng, m, 1) * (glitch ? 1e4 : 1.0);
+    ref.P = ref.P / lambda + q * Eigen::MatrixXd::Identity(n, n);
+    if (glitch) {
+      ASSERT_EQ(k.Step(H, r), UpdateStatus::kOutlier) << sample;
+      EXPECT_LT((k.Covariance() - ref.P).norm(), 1e-10 * ref.P.norm()) << sample;
+      Update restored(n, m, std0, o);
+      ASSERT_TRUE(restored.SetCovariance(k.Covariance()));
+      const typename Update::MatrixH H2 = make_h(rng, m, n);
+      const typename Update::VectorM r2 = RandomMatrix(rng, m, 1);
+      Update original = k;
+      ASSERT_EQ(original.Step(H2, r2), UpdateStatus::kAccepted);
+      ASSERT_EQ(restored.Step(H2, r2), UpdateStatus::kAccepted);
+      EXPECT_EQ(original.step(), restored.step()) << sample;
+      original.Commit();
+      restored.Commit();
+      EXPECT_EQ(original.Covariance(), restored.Covariance()) << sample;
+      continue;
+    }
+    ASSERT_EQ(k.Step(H, r), UpdateStatus::kAccepted) << sample;
+    const Eigen::VectorXd dx = ref.Step(H, r, sigma * sigma);
+    EXPECT_LT((k.step() - dx).norm(), 1e-10 * (1 + dx.norm())) << sample;
+    k.Commit();
+    EXPECT_LT((k.Covariance() - ref.P).norm(), 1e-10 * ref.P.norm()) << sample;
+  }
+}
+
+Eigen::MatrixXd DenseH(Rng& rng, int m, int n) { return RandomMatrix(rng, m, n); }
+
+TEST(KalmanUpdate, RefusedSamplesStillForget) {
+  RefusedSamplesStillForget<KalmanUpdate>(13, 5, Staircase);
+  RefusedSamplesStillForget<KalmanUpdate>(40, 7, Staircase);
+  RefusedSamplesStillForget<BodyKalmanUpdate>(10, 6, DenseH);
+}
+
 // A parameter the data never see stops growing once it reaches its cap (initial variance times
 // the factor; the last growth may pass it by at most 1 / lambda); one the data see keeps forgetting.
 TEST(KalmanUpdate, ForgettingStopsAtTheVarianceCap) {

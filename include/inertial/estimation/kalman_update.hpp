@@ -2,8 +2,8 @@
 /// The measurement update shared by the recursive estimators, in covariance (Kalman) form, for a
 /// model linearized as y ~ y_hat + H dx with m measurements of standard deviation sigma:
 ///
-///   P <- D P D + q 1                          (forgetting and process noise; D_ii = lambda^-1/2 for
-///                                              the parameters whose variance is below its cap)
+///   P <- D P D + Q                            (forgetting and process noise; D_ii = lambda^-1/2 and
+///                                              Q_ii = q for the parameters whose variance is below its cap)
 ///   S = H P H^T + (sigma^2 / omega) 1,  S = L L^T
 ///   z = L^-1 r,  d^2 = |z|^2                  (r = y - y_hat; d^2: the Mahalanobis distance)
 ///   W = P H^T L^-T,  dx = W z,  P <- P - W W^T
@@ -16,7 +16,8 @@
 /// so each row of H is nonzero only over a span [first, end) of the parameters; P H^T is formed
 /// from the lower triangle over those spans alone (n (end - first) per measurement, in groups of
 /// kSpanBlock measurements so that each element of P read serves all of them), S over the spans, and
-/// the rank-m downdate of the lower triangle costs n^2 m / 2. Dense H costs 1.5 n^2 m multiply-adds,
+/// the rank-m downdate of the lower triangle costs n^2 m / 2, fused with the next prediction into one
+/// pass over P (symmetric_rank_update.hpp). Dense H costs 1.5 n^2 m multiply-adds,
 /// a serial chain's about 1.05 n^2 m (against 2 n^2 m for full storage and dense products);
 /// never n^3.
 /// Robustness: samples with sqrt(d^2 / m) > gate are rejected as outliers, unless more than
@@ -76,7 +77,8 @@ class BasicKalmanUpdate {
   /// How often a run of more than max_consecutive_outliers was taken as a change of the system.
   std::uint64_t changes_detected() const { return changes_; }
 
-  /// The covariance of x (full symmetric; allocates).
+  /// The covariance of x (full symmetric; allocates): the last posterior, with the prediction of
+  /// any later sample that was not committed (refused as an outlier, say) applied.
   Eigen::MatrixXd Covariance() const;
   /// Replaces P (symmetric, n x n); false if the size is wrong or it is not finite.
   bool SetCovariance(const Eigen::MatrixXd& P);
@@ -88,17 +90,23 @@ class BasicKalmanUpdate {
   void Transpose(const MatrixH& H);  // Ht_ = H^T and the spans first_, end_
   void Predict(const MatrixH& H);    // PHt_ = P H^T
   bool Factor(const MatrixH& H, double weight);  // S, its Cholesky factor and z for the current PHt_, r_
-  void Forget();                     // the prediction: forgetting and process noise
-  void ResetCovariance();            // P back to its initial value
+  void ChoosePrediction();           // forget_ and noise_ from P's diagonal (the variance caps)
+  template <class Matrix>
+  void ApplyPrediction(Matrix& P) const;  // P <- D P D + Q alone (for a step that was not committed)
+  void ResetCovariance();            // P back to its initial value, no prediction pending
   KalmanOptions options_;
   int n_ = 0, m_ = 0;
   // Dynamic sizes: the lower triangle (the strictly upper part is not kept up to date); P_, Ht_
   // and PHt_ padded with zeros to whole blocks of the span product. Fixed sizes: P in full.
   Eigen::Matrix<double, N, N> P_;
-  Eigen::Matrix<double, N, M> Ht_, PHt_, W_;
+  Eigen::Matrix<double, N, M> Ht_, HtD_, PHt_, W_;  // H^T, D H^T, P_predicted H^T, P_predicted H^T L^-T
   Eigen::Matrix<double, M, M> S_;
   Eigen::Matrix<int, M, 1> first_, end_;  // per measurement: H's nonzero columns are [first, end)
-  VectorN cap_, forget_;
+  // The prediction is never applied to P on its own: P stays the last posterior, D and Q enter
+  // P H^T as O(n m) scalings, and Commit() forms D P D + Q - f W W^T in one pass
+  // (symmetric_rank_update.hpp). pending_: a prediction chosen by Step() and not yet committed.
+  VectorN cap_, forget_, noise_;  // D's diagonal (padding: 1), Q's diagonal (padding: 0)
+  bool scaled_ = false, pending_ = false;
   Eigen::LLT<Eigen::Matrix<double, M, M>> llt_;
   VectorM z_;
   VectorN dx_;
