@@ -88,7 +88,8 @@ void ParameterLayout::Evaluate(const Eigen::VectorXd& x, const Eigen::MatrixXd& 
       if ((a.array() == 0.0).all()) {
         H.row(i).segment<10>(b.parameter).setZero();
       } else {
-        H.row(i).segment<10>(b.parameter).noalias() = (J.transpose() * a).transpose();
+        // Coefficient-based (lazyProduct): unrolled dot products, not a call into Eigen's GEMV.
+        H.row(i).segment<10>(b.parameter).noalias() = a.transpose().lazyProduct(J);
       }
     }
   }
