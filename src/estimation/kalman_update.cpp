@@ -45,8 +45,6 @@ BasicKalmanUpdate<N, M>::BasicKalmanUpdate(int n, int m, const Eigen::VectorXd& 
   if (!(o.max_step > 0)) throw std::invalid_argument("Kalman update: max step must be positive");
   n_ = n;
   m_ = m;
-  cap_ = o.max_variance_factor * initial_std.array().square();
-  W_.resize(n, m);
   S_.resize(m, m);
   z_.resize(m);
   dx_ = VectorN::Zero(n);
@@ -59,9 +57,16 @@ BasicKalmanUpdate<N, M>::BasicKalmanUpdate(int n, int m, const Eigen::VectorXd& 
     W_ = Eigen::MatrixXd::Zero(RoundUpToBlock(n), m);
     first_.resize(m);
     end_.resize(m);
+  } else {  // the padding rows stay zero
+    Ht_.setZero();
+    HtD_.setZero();
+    PHt_.setZero();
+    W_.setZero();
   }
-  forget_ = VectorN::Ones(P_.rows());
-  noise_ = VectorN::Zero(P_.rows());
+  cap_ = VectorS::Zero(P_.rows());
+  cap_.head(n) = o.max_variance_factor * initial_std.array().square();
+  forget_ = VectorS::Ones(P_.rows());
+  noise_ = VectorS::Zero(P_.rows());
   P_.setZero();
   P_.diagonal().head(n) = initial_std.array().square();
 }
@@ -95,7 +100,7 @@ void BasicKalmanUpdate<N, M>::ApplyPrediction(Matrix& P) const {
 template <int N, int M>
 void BasicKalmanUpdate<N, M>::ResetCovariance() {
   P_.setZero();
-  P_.diagonal().head(n_) = cap_ / options_.max_variance_factor;
+  P_.diagonal().head(n_) = cap_.head(n_) / options_.max_variance_factor;
   forget_.setOnes();
   noise_.setZero();
   scaled_ = pending_ = false;
@@ -114,7 +119,7 @@ UpdateStatus BasicKalmanUpdate<N, M>::Step(const MatrixH& H, const VectorM& r) {
     pending_ = true;
   }
   Transpose(H);
-  Predict(H);
+  Predict();
   if (!Factor(H, 1.0)) return UpdateStatus::kNumerical;
   normalized_innovation_ = std::sqrt(z_.squaredNorm() / m);
   if (normalized_innovation_ > options_.gate && !tracking_change_) {
@@ -125,7 +130,7 @@ UpdateStatus BasicKalmanUpdate<N, M>::Step(const MatrixH& H, const VectorM& r) {
     ++changes_;
     // Everything may have changed: back to the initial uncertainty about the current estimate.
     ResetCovariance();
-    Predict(H);
+    Predict();
     if (!Factor(H, 1.0)) return UpdateStatus::kNumerical;
   } else if (normalized_innovation_ <= options_.gate) {
     consecutive_outliers_ = 0;
@@ -135,7 +140,9 @@ UpdateStatus BasicKalmanUpdate<N, M>::Step(const MatrixH& H, const VectorM& r) {
   if (e > options_.huber && !Factor(H, options_.huber / e)) return UpdateStatus::kNumerical;
   // W = P H^T L^-T: W L^T = P H^T, a triangular solve from the right, column by column (m small:
   // axpys over n, no packing as in Eigen's blocked solve; of dynamic W all padded rows, which stay 0).
-  if (m <= kFusedMaxRank) {
+  if constexpr (!kDynamic) {
+    // W was formed by Factor().
+  } else if (m <= kFusedMaxRank) {
     const auto& L = llt_.matrixLLT();
     for (int j = 0; j < m; ++j) {
       W_.col(j) = PHt_.col(j).head(W_.rows());
@@ -149,7 +156,7 @@ UpdateStatus BasicKalmanUpdate<N, M>::Step(const MatrixH& H, const VectorM& r) {
   if constexpr (kDynamic) {
     dx_.noalias() = W_.topRows(n_) * z_;
   } else {
-    dx_.noalias() = W_ * z_;
+    dx_.noalias() = W_.template topRows<N>() * z_;
   }
   if (!dx_.allFinite() || !W_.allFinite()) return UpdateStatus::kNumerical;
   const double largest = dx_.template lpNorm<Eigen::Infinity>();
@@ -163,7 +170,9 @@ void BasicKalmanUpdate<N, M>::Transpose(const MatrixH& H) {
   // H^T, so that every measurement's row is a contiguous column, and each row's span of nonzero
   // columns [first, end): a joint's torque depends only on the bodies it carries and its own
   // effects, so a robot's regressor is block-triangular and the spans are what the products need.
-  if constexpr (kDynamic) {
+  if constexpr (!kDynamic) {
+    Ht_.template topRows<N>() = H.transpose();
+  } else {
     Ht_.topLeftCorner(n_, m_) = H.transpose();
     for (int i = 0; i < m_; ++i) {
       int c = 0, e = n_;
@@ -176,7 +185,7 @@ void BasicKalmanUpdate<N, M>::Transpose(const MatrixH& H) {
 }
 
 template <int N, int M>
-void BasicKalmanUpdate<N, M>::Predict(const MatrixH& H) {
+void BasicKalmanUpdate<N, M>::Predict() {
   if constexpr (kDynamic) {
     // PHt = P H^T from the lower triangle of P, kSpanBlock measurements at a time over the union
     // of their spans rounded out to whole blocks (symmetric_span_product.hpp).
@@ -199,12 +208,12 @@ void BasicKalmanUpdate<N, M>::Predict(const MatrixH& H) {
                            PHt_.middleCols(g0, kSpanBlock));
     }
     if (scaled_) PHt_ = forget_.asDiagonal() * PHt_ + noise_.asDiagonal() * Ht_;
-  } else if (scaled_) {
-    HtD_ = forget_.asDiagonal() * H.transpose();
-    PHt_.noalias() = P_.lazyProduct(HtD_);  // fixed sizes: unrolled
-    PHt_ = forget_.asDiagonal() * PHt_ + noise_.asDiagonal() * H.transpose();
+  } else if (scaled_) {  // fixed sizes: unrolled over whole packets
+    HtD_ = forget_.asDiagonal() * Ht_;
+    PHt_.noalias() = P_.lazyProduct(HtD_);
+    PHt_ = forget_.asDiagonal() * PHt_ + noise_.asDiagonal() * Ht_;
   } else {
-    PHt_.noalias() = P_.lazyProduct(H.transpose());
+    PHt_.noalias() = P_.lazyProduct(Ht_);
   }
 }
 
@@ -222,7 +231,36 @@ bool BasicKalmanUpdate<N, M>::Factor(const MatrixH& H, double weight) {
       }
     }
   } else {
-    S_.noalias() = H.lazyProduct(PHt_);
+    // Fixed sizes: S from independent dot products, its Cholesky factor by hand (unrolled; no
+    // call into Eigen's generic factorization), then z = L^-1 r and W = P H^T L^-T.
+    (void)H;
+    S_.noalias() = Ht_.transpose().lazyProduct(PHt_);
+    S_.diagonal().array() += options_.measurement_sigma * options_.measurement_sigma / weight;
+    Eigen::Matrix<double, M, M>& L = S_;  // in place, lower triangle
+    VectorM inv;
+    for (int j = 0; j < M; ++j) {
+      double d = L(j, j);
+      for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+      if (!(d > 0.0)) return false;
+      L(j, j) = std::sqrt(d);
+      inv[j] = 1.0 / L(j, j);
+      for (int i = j + 1; i < M; ++i) {
+        double e = L(i, j);
+        for (int k = 0; k < j; ++k) e -= L(i, k) * L(j, k);
+        L(i, j) = e * inv[j];
+      }
+    }
+    for (int j = 0; j < M; ++j) {
+      double zj = (*r_)[j];
+      VectorS a = PHt_.col(j);
+      for (int k = 0; k < j; ++k) {
+        zj -= L(j, k) * z_[k];
+        a -= L(j, k) * W_.col(k);
+      }
+      z_[j] = zj * inv[j];
+      W_.col(j) = a * inv[j];
+    }
+    return z_.allFinite();
   }
   S_.diagonal().array() += options_.measurement_sigma * options_.measurement_sigma / weight;
   llt_.compute(S_);
@@ -262,7 +300,7 @@ void BasicKalmanUpdate<N, M>::Commit(double fraction) {
 template <int N, int M>
 Eigen::MatrixXd BasicKalmanUpdate<N, M>::Covariance() const {
   if (pending_) {  // exactly what the next Step() will start from
-    Eigen::Matrix<double, N, N> P = P_;
+    Eigen::Matrix<double, kRows, kRows> P = P_;
     ApplyPrediction(P);
     return P.topLeftCorner(n_, n_).template selfadjointView<Eigen::Lower>();
   }

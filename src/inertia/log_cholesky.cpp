@@ -105,42 +105,48 @@ LogCholeskyParameterization::LogCholeskyParameterization(const InertialParams& r
   identity_reference_ = false;
 }
 
+namespace {
+// The column of d pi / d theta_k for dU = v e_R e_C^T (every theta but alpha), with b = v (U J0)(:, C)
+// (b = v B(C, :)^T for J = U B, B = J0 U^T): dJ = dU B + (dU B)^T = e_R b^T + b e_R^T (R < 3) has
+// mass 0, h' = b_3 e_R and Sigma' = e_R b^T + b e_R^T on the 3 x 3 block, so I' = 2 b_R 1 - Sigma'.
+// R is a template argument so that the choices below fold away.
+template <int R>
+void PerturbationColumn(const Eigen::Vector4d& b, double* c) {
+  const double tr = 2.0 * b[R];
+  c[pi_ix::kMass] = 0.0;
+  c[pi_ix::kHx] = R == 0 ? b[3] : 0.0;
+  c[pi_ix::kHy] = R == 1 ? b[3] : 0.0;
+  c[pi_ix::kHz] = R == 2 ? b[3] : 0.0;
+  c[pi_ix::kIxx] = R == 0 ? 0.0 : tr;
+  c[pi_ix::kIyy] = R == 1 ? 0.0 : tr;
+  c[pi_ix::kIzz] = R == 2 ? 0.0 : tr;
+  c[pi_ix::kIxy] = R == 0 ? -b[1] : (R == 1 ? -b[0] : 0.0);
+  c[pi_ix::kIyz] = R == 1 ? -b[2] : (R == 2 ? -b[1] : 0.0);
+  c[pi_ix::kIxz] = R == 0 ? -b[2] : (R == 2 ? -b[0] : 0.0);
+}
+}  // namespace
+
 Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi_theta) const {
   if (identity_reference_) return PiFromLogCholesky(theta, J_pi_theta);
   const Matrix4 U = LogCholeskyFactor(theta);
-  const Matrix4 B = J0_ * U.transpose();  // J = U B
-  const Vector10 pi = PiFromPseudoInertia(U * B);
+  const Matrix4 Bt = U * J0_;  // B^T for J = U B, B = J0 U^T (J0 symmetric): its columns are contiguous
+  const Vector10 pi = PiFromPseudoInertia(Bt * U.transpose());
   if (J_pi_theta != nullptr) {
-    // dJ = dU B + (dU B)^T, and pi is linear in J. Every dU but alpha's has a single non-zero
-    // entry v at (row, col), so dU B is v times row `col` of B placed in row `row`.
-    // With b = v B(col, :), J' = e_row b^T + b e_row^T (row < 3) has mass 0, h' = b_3 e_row and
-    // Sigma' = e_row b^T + b e_row^T on the 3 x 3 block, so I' = 2 b_row 1 - Sigma': written out,
-    // not through a 4 x 4 and PiFromPseudoInertia (the Jacobian is on the estimator's every tick).
+    // Written out, not through a 4 x 4 and PiFromPseudoInertia per column (the Jacobian is on the
+    // estimator's every tick).
+    Matrix10& J = *J_pi_theta;
     const double ea = U(3, 3);  // e^alpha (U = e^alpha [...; 0 0 0 1])
-    auto column = [&](int row, int col, double v) {
-      const Eigen::Vector4d b = v * B.row(col).transpose();
-      Vector10 c = Vector10::Zero();
-      c[pi_ix::kHx + row] = b[3];
-      const double tr = 2.0 * b[row];
-      c[pi_ix::kIxx] = tr - (row == 0 ? 2.0 * b[0] : 0.0);
-      c[pi_ix::kIyy] = tr - (row == 1 ? 2.0 * b[1] : 0.0);
-      c[pi_ix::kIzz] = tr - (row == 2 ? 2.0 * b[2] : 0.0);
-      c[pi_ix::kIxy] = -((row == 0 ? b[1] : 0.0) + (row == 1 ? b[0] : 0.0));
-      c[pi_ix::kIyz] = -((row == 1 ? b[2] : 0.0) + (row == 2 ? b[1] : 0.0));
-      c[pi_ix::kIxz] = -((row == 0 ? b[2] : 0.0) + (row == 2 ? b[0] : 0.0));
-      return c;
-    };
-    J_pi_theta->col(kAlpha) = 2.0 * pi;
-    // dU/d d_i = U(i, i) e_i e_i^T (U(i, i) = e^alpha e^{d_i}).
-    J_pi_theta->col(kD1) = column(0, 0, U(0, 0));
-    J_pi_theta->col(kD2) = column(1, 1, U(1, 1));
-    J_pi_theta->col(kD3) = column(2, 2, U(2, 2));
-    J_pi_theta->col(kS12) = column(0, 1, ea);
-    J_pi_theta->col(kS23) = column(1, 2, ea);
-    J_pi_theta->col(kS13) = column(0, 2, ea);
-    J_pi_theta->col(kT1) = column(0, 3, ea);
-    J_pi_theta->col(kT2) = column(1, 3, ea);
-    J_pi_theta->col(kT3) = column(2, 3, ea);
+    J.col(kAlpha) = 2.0 * pi;
+    // dU/d d_i = U(i, i) e_i e_i^T (U(i, i) = e^alpha e^{d_i}); dU/d s, t = e^alpha e_R e_C^T.
+    PerturbationColumn<0>(U(0, 0) * Bt.col(0), J.col(kD1).data());
+    PerturbationColumn<1>(U(1, 1) * Bt.col(1), J.col(kD2).data());
+    PerturbationColumn<2>(U(2, 2) * Bt.col(2), J.col(kD3).data());
+    PerturbationColumn<0>(ea * Bt.col(1), J.col(kS12).data());
+    PerturbationColumn<1>(ea * Bt.col(2), J.col(kS23).data());
+    PerturbationColumn<0>(ea * Bt.col(2), J.col(kS13).data());
+    PerturbationColumn<0>(ea * Bt.col(3), J.col(kT1).data());
+    PerturbationColumn<1>(ea * Bt.col(3), J.col(kT2).data());
+    PerturbationColumn<2>(ea * Bt.col(3), J.col(kT3).data());
   }
   return pi;
 }

@@ -50,7 +50,7 @@ struct KalmanOptions {
 
 /// N parameters, M measurements: Eigen::Dynamic for both (any robot; the span products above), or
 /// compile-time sizes (one body: BodyKalmanUpdate, fixed-size dense products with P kept in full,
-/// no padding and no loops over sizes).
+/// its rows padded to whole SIMD packets, S factored by an unrolled loop, no loops over run-time sizes).
 template <int N, int M>
 class BasicKalmanUpdate {
  public:
@@ -88,8 +88,10 @@ class BasicKalmanUpdate {
 
  private:
   void Transpose(const MatrixH& H);  // Ht_ = H^T and the spans first_, end_
-  void Predict(const MatrixH& H);    // PHt_ = P H^T
-  bool Factor(const MatrixH& H, double weight);  // S, its Cholesky factor and z for the current PHt_, r_
+  void Predict();                    // PHt_ = P H^T (from Ht_)
+  // S, its Cholesky factor and z for the current PHt_, r_ (fixed sizes: z and W column by column,
+  // without forming S)
+  bool Factor(const MatrixH& H, double weight);
   void ChoosePrediction();           // forget_ and noise_ from P's diagonal (the variance caps)
   template <class Matrix>
   void ApplyPrediction(Matrix& P) const;  // P <- D P D + Q alone (for a step that was not committed)
@@ -97,15 +99,19 @@ class BasicKalmanUpdate {
   KalmanOptions options_;
   int n_ = 0, m_ = 0;
   // Dynamic sizes: the lower triangle (the strictly upper part is not kept up to date); P_, Ht_
-  // and PHt_ padded with zeros to whole blocks of the span product. Fixed sizes: P in full.
-  Eigen::Matrix<double, N, N> P_;
-  Eigen::Matrix<double, N, M> Ht_, HtD_, PHt_, W_;  // H^T, D H^T, P_predicted H^T, P_predicted H^T L^-T
+  // and PHt_ padded with zeros to whole blocks of the span product. Fixed sizes: P in full, its
+  // rows (and those of H^T) padded with zeros to whole SIMD packets of 4 doubles (10 -> 12), so
+  // that every column is whole packets and no product has a scalar tail.
+  static constexpr int kRows = kDynamic ? Eigen::Dynamic : (N + 3) / 4 * 4;
+  using VectorS = Eigen::Matrix<double, kRows, 1>;
+  Eigen::Matrix<double, kRows, kRows> P_;
+  Eigen::Matrix<double, kRows, M> Ht_, HtD_, PHt_, W_;  // H^T, D H^T, P_predicted H^T, P_predicted H^T L^-T
   Eigen::Matrix<double, M, M> S_;
   Eigen::Matrix<int, M, 1> first_, end_;  // per measurement: H's nonzero columns are [first, end)
   // The prediction is never applied to P on its own: P stays the last posterior, D and Q enter
   // P H^T as O(n m) scalings, and Commit() forms D P D + Q - f W W^T in one pass
   // (symmetric_rank_update.hpp). pending_: a prediction chosen by Step() and not yet committed.
-  VectorN cap_, forget_, noise_;  // D's diagonal (padding: 1), Q's diagonal (padding: 0)
+  VectorS cap_, forget_, noise_;  // D's diagonal (padding: 1), Q's diagonal (padding: 0)
   bool scaled_ = false, pending_ = false;
   Eigen::LLT<Eigen::Matrix<double, M, M>> llt_;
   VectorM z_;
