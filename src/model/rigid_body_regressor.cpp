@@ -22,18 +22,21 @@ Matrix6x10 RigidBodyRegressor(const Vector6& xi, const Vector6& xi_dot, const Ve
   const Vector3 v = xi.tail<3>();
   const Vector3 alpha = xi_dot.head<3>();
   const Vector3 a = xi_dot.tail<3>() - g_B;
-  const Matrix3 S_omega = Skew(omega);
-  const Matrix3 S_v = Skew(v);
-
   Matrix6x10 Y = Matrix6x10::Zero();
   // m
   Y.block<3, 1>(3, pi_index::kMass) = a + omega.cross(v);
   // h: moment h x a + omega x (h x v) + v x (omega x h) = (-S(a) - S(omega) S(v) + S(v) S(omega)) h
-  Y.block<3, 3>(0, pi_index::kHx) = -Skew(a) - S_omega * S_v + S_v * S_omega;
-  //    force alpha x h + omega x (omega x h) = (S(alpha) + S(omega)^2) h
-  Y.block<3, 3>(3, pi_index::kHx) = Skew(alpha) + S_omega * S_omega;
-  // rotational inertia: I_o alpha + omega x (I_o omega)
-  Y.block<3, 6>(0, pi_index::kIxx) = InertiaTimesVectorMap(alpha) + S_omega * InertiaTimesVectorMap(omega);
+  //    = S(v x omega - a) h, as S(x) S(y) - S(y) S(x) = S(x x y)
+  Y.block<3, 3>(0, pi_index::kHx) = Skew(v.cross(omega) - a);
+  //    force alpha x h + omega x (omega x h) = (S(alpha) + S(omega)^2) h, S(omega)^2 = omega omega^T - |omega|^2 1
+  Y.block<3, 3>(3, pi_index::kHx) = Skew(alpha) + omega * omega.transpose();
+  Y.block<3, 3>(3, pi_index::kHx).diagonal().array() -= omega.squaredNorm();
+  // rotational inertia: I_o alpha + omega x (I_o omega), column by column of the maps
+  // (InertiaTimesVectorMap), each omega x (column of the map of omega)
+  const Eigen::Matrix<double, 3, 6> L_alpha = InertiaTimesVectorMap(alpha), L_omega = InertiaTimesVectorMap(omega);
+  for (int k = 0; k < 6; ++k) {
+    Y.block<3, 1>(0, pi_index::kIxx + k) = L_alpha.col(k) + omega.cross(Vector3(L_omega.col(k)));
+  }
   return Y;
 }
 
