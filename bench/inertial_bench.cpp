@@ -10,8 +10,12 @@
 // chain14, chain28 (examples/chain<n>.urdf: serial chains of n revolute joints with alternating
 // axes, every link free, viscous and Coulomb friction on every joint: 12 n parameters, n
 // measurements), for how the cost grows with the robot.
+//   Information/k<k>/<model>    the information form of the linear update, its factor refreshed
+//                               every k samples, for the comparison of the two forms' costs.
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -142,6 +146,77 @@ void UpdateOnly(benchmark::State& state, EstimatorKind kind, const std::string& 
   state.counters["parameters"] = est->num_parameters();
 }
 
+// The information form of the same linear update, measured beside the covariance form
+// (Update/linear_rls/<model>) for issue 18, part 2: Y <- lambda Y + H^T H / sigma^2 over each
+// measurement's span (a robot's regressor is block-triangular, so this costs sum_i len_i^2 / 2
+// in groups of four rows, against the covariance form's n^2 m / 2 downdate and its P H^T),
+// g = H^T r / sigma^2, and the step dx = Y^-1 g from a Cholesky factor of Y refreshed every k
+// samples (n^3 / 6 every k; two triangular solves, n^2, every sample; between refreshes the factor
+// is of an older Y, so the steps are those of less information). Forgetting is one scalar
+// (Y = s Yhat). What it lacks: the innovation's Mahalanobis distance (the outlier gate, the change
+// detector, Huber's weights) needs H Y^-1 H^T, m triangular solves of n^2 each: the O(n^2 m) this
+// form avoids; it is measured here for its cost, not offered as an estimator.
+void InformationForm(benchmark::State& state, const std::string& name, int k) {
+  const RobotDynamics model = Robot(name);
+  const int n = model.num_features(), m = model.num_dofs();
+  std::vector<Eigen::MatrixXd> Ht;
+  std::vector<Eigen::VectorXd> y;
+  for (const JointSample& s : JointStream(model)) {
+    Eigen::MatrixXd a(m, n);
+    model.Features(s.q, s.qd, s.qdd, a);
+    Ht.push_back(a.transpose());
+    y.push_back(s.tau);
+  }
+  // Each group of four measurements' span: the union of its rows' nonzero columns.
+  constexpr int kGroup = 4;
+  std::vector<std::vector<std::pair<int, int>>> spans(kSamples);
+  for (int i = 0; i < kSamples; ++i) {
+    for (int g0 = 0; g0 < m; g0 += kGroup) {
+      int c = n, e = 0;
+      for (int r = g0; r < std::min(g0 + kGroup, m); ++r) {
+        for (int j = 0; j < n; ++j) {
+          if (Ht[i](j, r) != 0.0) {
+            c = std::min(c, j);
+            e = std::max(e, j + 1);
+          }
+        }
+      }
+      spans[i].push_back({c, e});
+    }
+  }
+  const double sigma = Options(EstimatorKind::kLinearRls).measurement_sigma, lambda = 0.9999;
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Identity(n, n);
+  Eigen::LLT<Eigen::MatrixXd> llt(Y);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(n), r(m), g(n);
+  double scale = 1.0, scale_at_factor = 1.0;
+  long t = 0;
+  for (auto _ : state) {
+    const int i = t % kSamples;
+    r = y[i];
+    r.noalias() -= Ht[i].transpose() * w;
+    scale *= lambda;
+    const double weight = 1.0 / (sigma * sigma * scale);
+    for (int q = 0; q < static_cast<int>(spans[i].size()); ++q) {
+      const auto [c, e] = spans[i][q];
+      if (c >= e) continue;
+      const int cols = std::min(kGroup, m - q * kGroup);
+      Y.block(c, c, e - c, e - c).selfadjointView<Eigen::Lower>().rankUpdate(Ht[i].block(c, q * kGroup, e - c, cols), weight);
+    }
+    g.noalias() = Ht[i] * r;
+    if (t % k == 0) {
+      Y *= scale;  // back to Y = Yhat
+      scale = 1.0;
+      llt.compute(Y);
+      scale_at_factor = scale;
+    }
+    llt.solveInPlace(g);
+    w += (scale_at_factor / scale / (sigma * sigma)) * g;
+    ++t;
+    benchmark::DoNotOptimize(w.data());
+  }
+  state.counters["parameters"] = n;
+}
+
 void Register() {
   const std::pair<EstimatorKind, const char*> kinds[] = {{EstimatorKind::kGaussNewton, "gauss_newton"},
                                                          {EstimatorKind::kGradient, "gradient"},
@@ -159,6 +234,13 @@ void Register() {
       const std::string m = model;
       benchmark::RegisterBenchmark((std::string("Update/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { UpdateOnly(s, k, m); });
+    }
+  }
+  for (const int k : {1, 10, 100}) {
+    for (const char* model : {"leg3", "arm7", "chain7", "chain14", "chain28"}) {
+      const std::string m = model;
+      benchmark::RegisterBenchmark(("Information/k" + std::to_string(k) + "/" + m).c_str(),
+                                   [k, m](benchmark::State& s) { InformationForm(s, m, k); });
     }
   }
 }
