@@ -42,7 +42,7 @@ const LcmLayout& JointStateLayout() {
 JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<std::string> dof_names)
     : format_(std::move(format)),
       dofs_(std::move(dof_names)) {
-  CheckLcmLayout(format_.layout);
+  fingerprint_ = LcmFingerprint(format_.layout);  // checks the layout
   for (const std::string* name : {&format_.q, &format_.qd, &format_.tau}) {
     if (name->empty() || !HasField(format_.layout, *name, false)) {
       throw std::invalid_argument("message format: q, qd and tau must name numeric fields of the layout ('" + *name +
@@ -75,9 +75,9 @@ JointMessageDecoder::JointMessageDecoder(JointMessageFormat format, std::vector<
 Rejection JointMessageDecoder::Decode(const void* data, std::size_t size, std::int64_t recv_utime, JointSample* s,
                                       std::string* why) {
   const int n = num_dofs();
-  LcmRecord r;
+  LcmRecord& r = record_;
   try {
-    r = DecodeLcm(format_.layout, data, size);
+    DecodeLcmInto(format_.layout, fingerprint_, data, size, &r);
   } catch (const LcmDecodeError& e) {
     if (why) *why = e.what();
     return Rejection::kDecode;

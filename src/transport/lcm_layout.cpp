@@ -134,17 +134,25 @@ std::uint64_t LcmFingerprint(const LcmLayout& layout) {
 }
 
 LcmRecord DecodeLcm(const LcmLayout& layout, const void* data, std::size_t size, int max_array_length) {
-  const std::uint64_t expected = LcmFingerprint(layout);
+  LcmRecord record;
+  DecodeLcmInto(layout, LcmFingerprint(layout), data, size, &record, max_array_length);
+  return record;
+}
+
+void DecodeLcmInto(const LcmLayout& layout, std::uint64_t expected, const void* data, std::size_t size,
+                   LcmRecord* out, int max_array_length) {
+  LcmRecord& record = *out;
   const auto* p = static_cast<const unsigned char*>(data);
   std::size_t pos = 0;
-  auto need = [&](std::size_t bytes, const std::string& what) {
+  // what: the part's name, built only when the message is short (not on every field of every message).
+  auto need = [&](std::size_t bytes, auto&& what) {
     if (bytes > size - pos) {
-      throw LcmDecodeError("truncated: " + what + " needs " + std::to_string(bytes) + " bytes, " +
+      throw LcmDecodeError("truncated: " + std::string(what()) + " needs " + std::to_string(bytes) + " bytes, " +
                            std::to_string(size - pos) + " left of " + std::to_string(size));
     }
   };
   if (data == nullptr) throw LcmDecodeError("no data");
-  need(8, "the fingerprint");
+  need(8, [] { return "the fingerprint"; });
   const std::uint64_t fingerprint = ReadBigEndian(p, 8);
   pos = 8;
   if (fingerprint != expected) {
@@ -154,7 +162,6 @@ LcmRecord DecodeLcm(const LcmLayout& layout, const void* data, std::size_t size,
                   layout.type_name.empty() ? "this layout" : layout.type_name.c_str());
     throw LcmDecodeError(buf);
   }
-  LcmRecord record;
   for (const LcmField& f : layout.fields) {
     long long count = 1;
     if (f.length >= 0) {
@@ -174,20 +181,22 @@ LcmRecord DecodeLcm(const LcmLayout& layout, const void* data, std::size_t size,
     }
     if (f.type == LcmType::kString) {
       std::vector<std::string>& out = record.strings[f.name];
+      out.clear();
       for (long long i = 0; i < count; ++i) {
-        need(4, "the length of string '" + f.name + "'");
+        need(4, [&] { return "the length of string '" + f.name + "'"; });
         const std::uint32_t length = static_cast<std::uint32_t>(ReadBigEndian(p + pos, 4));
         pos += 4;
         if (length == 0) throw LcmDecodeError("string '" + f.name + "': length 0 (no terminator)");
-        need(length, "string '" + f.name + "'");
+        need(length, [&] { return "string '" + f.name + "'"; });
         if (p[pos + length - 1] != 0) throw LcmDecodeError("string '" + f.name + "' is not terminated");
         out.emplace_back(reinterpret_cast<const char*>(p + pos), length - 1);
         pos += length;
       }
     } else {
       const std::size_t element = ElementSize(f.type);
-      need(element * static_cast<std::size_t>(count), "field '" + f.name + "'");
+      need(element * static_cast<std::size_t>(count), [&] { return "field '" + f.name + "'"; });
       std::vector<double>& out = record.numbers[f.name];
+      out.clear();
       out.reserve(static_cast<std::size_t>(count));
       for (long long i = 0; i < count; ++i) {
         out.push_back(ReadNumber(p + pos, f.type));
@@ -196,7 +205,6 @@ LcmRecord DecodeLcm(const LcmLayout& layout, const void* data, std::size_t size,
     }
   }
   if (pos != size) throw LcmDecodeError(std::to_string(size - pos) + " bytes left over after the last field");
-  return record;
 }
 
 }  // namespace inertial

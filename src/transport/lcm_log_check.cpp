@@ -46,7 +46,7 @@ LcmLogSummary CheckLcmLog(const std::string& path) {
       fail("only " + std::to_string(size - offset) + " bytes left for a 28-byte event header (a truncated log)");
     }
     std::array<unsigned char, kHeaderBytes> h{};
-    in.seekg(offset);
+    // Sequential reads and ignore() (buffered): no seek, so no system call per event.
     if (!in.read(reinterpret_cast<char*>(h.data()), kHeaderBytes)) fail("cannot read the event header");
     const std::uint32_t sync = static_cast<std::uint32_t>(BigEndian(h.data(), 4));
     if (sync != kSyncWord) fail("no LCM sync word (not an lcm-logger log, or corrupt)");
@@ -62,6 +62,7 @@ LcmLogSummary CheckLcmLog(const std::string& path) {
       fail("the header claims " + std::to_string(channel) + " channel and " + std::to_string(data) +
            " data bytes but only " + std::to_string(left) + " remain (a truncated or corrupt log)");
     }
+    in.ignore(static_cast<std::streamsize>(channel) + data);
     offset += kHeaderBytes + channel + data;
     ++summary.events;
   }
