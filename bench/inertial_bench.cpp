@@ -11,13 +11,16 @@
 // axes, every link free, viscous and Coulomb friction on every joint: 12 n parameters, n
 // measurements), for how the cost grows with the robot.
 //   Information/k<k>/<model>    the information form of the linear update, its factor refreshed
-//                               every k samples, for the comparison of the two forms' costs.
+//                               every k samples, for the comparison of the two forms' costs;
+//   Gemm/<n>x<m>                Eigen's GEMM of the shape of P H^T: the attainable flop rate.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "examples/bundled_robots.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
@@ -217,6 +220,21 @@ void InformationForm(benchmark::State& state, const std::string& name, int k) {
   state.counters["parameters"] = n;
 }
 
+// The machine's attainable rate for the covariance update's arithmetic: Eigen's blocked GEMM
+// C += P G for P n x n and G n x m, the shape of P H^T of each model (2 n^2 m flops), so that a
+// tick can be held against flops / rate (the README's bounds of the aims missed). Counter
+// `flops`: floating-point operations per second.
+void Gemm(benchmark::State& state, int n, int m) {
+  const Eigen::MatrixXd P = Eigen::MatrixXd::Random(n, n), G = Eigen::MatrixXd::Random(n, m);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, m);
+  for (auto _ : state) {
+    C.noalias() += P * G;
+    benchmark::DoNotOptimize(C.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["flops"] = benchmark::Counter(2.0 * n * n * m, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void Register() {
   const std::pair<EstimatorKind, const char*> kinds[] = {{EstimatorKind::kGaussNewton, "gauss_newton"},
                                                          {EstimatorKind::kGradient, "gradient"},
@@ -235,6 +253,10 @@ void Register() {
       benchmark::RegisterBenchmark((std::string("Update/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { UpdateOnly(s, k, m); });
     }
+  }
+  for (const auto& [n, m] : std::vector<std::pair<int, int>>{{10, 6}, {66, 3}, {84, 7}, {168, 14}, {336, 28}}) {
+    benchmark::RegisterBenchmark(("Gemm/" + std::to_string(n) + "x" + std::to_string(m)).c_str(),
+                                 [n = n, m = m](benchmark::State& s) { Gemm(s, n, m); });
   }
   for (const int k : {1, 10, 100}) {
     for (const char* model : {"leg3", "arm7", "chain7", "chain14", "chain28"}) {
