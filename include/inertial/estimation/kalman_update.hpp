@@ -89,8 +89,8 @@ class BasicKalmanUpdate {
  private:
   void Transpose(const MatrixH& H);  // Ht_ = H^T and the spans first_, end_
   void Predict();                    // PHt_ = P H^T (from Ht_)
-  // S, its Cholesky factor and z for the current PHt_, r_ (fixed sizes: z and W column by column,
-  // without forming S)
+  // S, its Cholesky factor and z for the current PHt_, r_ (fixed sizes: S factored by an unrolled
+  // loop, and W = P H^T L^-T formed here too)
   bool Factor(const MatrixH& H, double weight);
   void ChoosePrediction();           // forget_ and noise_ from P's diagonal (the variance caps)
   template <class Matrix>
