@@ -28,9 +28,13 @@ Matrix6x10 RigidBodyRegressor(const Vector6& xi, const Vector6& xi_dot, const Ve
   // h: moment h x a + omega x (h x v) + v x (omega x h) = (-S(a) - S(omega) S(v) + S(v) S(omega)) h
   //    = S(v x omega - a) h, as S(x) S(y) - S(y) S(x) = S(x x y)
   Y.block<3, 3>(0, pi_index::kHx) = Skew(v.cross(omega) - a);
-  //    force alpha x h + omega x (omega x h) = (S(alpha) + S(omega)^2) h, S(omega)^2 = omega omega^T - |omega|^2 1
+  //    force alpha x h + omega x (omega x h) = (S(alpha) + S(omega)^2) h, S(omega)^2 = omega omega^T - |omega|^2 1,
+  //    its diagonal -(omega_y^2 + omega_z^2), ... written as such (no cancellation when one component dominates)
   Y.block<3, 3>(3, pi_index::kHx) = Skew(alpha) + omega * omega.transpose();
-  Y.block<3, 3>(3, pi_index::kHx).diagonal().array() -= omega.squaredNorm();
+  const Vector3 w2 = omega.cwiseProduct(omega);
+  Y(3, pi_index::kHx) = -(w2[1] + w2[2]);
+  Y(4, pi_index::kHx + 1) = -(w2[0] + w2[2]);
+  Y(5, pi_index::kHx + 2) = -(w2[0] + w2[1]);
   // rotational inertia: I_o alpha + omega x (I_o omega), column by column of the maps
   // (InertiaTimesVectorMap), each omega x (column of the map of omega)
   const Eigen::Matrix<double, 3, 6> L_alpha = InertiaTimesVectorMap(alpha), L_omega = InertiaTimesVectorMap(omega);

@@ -181,7 +181,7 @@ void DecodeLcmInto(const LcmLayout& layout, std::uint64_t expected, const void* 
     }
     if (f.type == LcmType::kString) {
       std::vector<std::string>& out = record.strings[f.name];
-      out.clear();
+      out.resize(static_cast<std::size_t>(count));  // assigned in place: a string keeps its capacity
       for (long long i = 0; i < count; ++i) {
         need(4, [&] { return "the length of string '" + f.name + "'"; });
         const std::uint32_t length = static_cast<std::uint32_t>(ReadBigEndian(p + pos, 4));
@@ -189,7 +189,7 @@ void DecodeLcmInto(const LcmLayout& layout, std::uint64_t expected, const void* 
         if (length == 0) throw LcmDecodeError("string '" + f.name + "': length 0 (no terminator)");
         need(length, [&] { return "string '" + f.name + "'"; });
         if (p[pos + length - 1] != 0) throw LcmDecodeError("string '" + f.name + "' is not terminated");
-        out.emplace_back(reinterpret_cast<const char*>(p + pos), length - 1);
+        out[static_cast<std::size_t>(i)].assign(reinterpret_cast<const char*>(p + pos), length - 1);
         pos += length;
       }
     } else {

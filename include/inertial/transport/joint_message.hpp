@@ -51,7 +51,7 @@ class JointMessageDecoder {
   JointMessageFormat format_;
   std::vector<std::string> dofs_;
   std::uint64_t fingerprint_ = 0;  // of format_.layout, once
-  LcmRecord record_;               // reused: numbers allocate nothing per message once the arrays have their size
+  LcmRecord record_;               // reused: nothing allocated per message once the arrays have their size
 };
 
 /// Encodes a sample as inertial.joint_state_t (names in the sample's DOF order, utime = t * 1e6).

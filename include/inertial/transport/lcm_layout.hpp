@@ -71,10 +71,9 @@ LcmRecord DecodeLcm(const LcmLayout& layout, const void* data, std::size_t size,
 /// The same for a stream of messages: the layout's fingerprint computed once by the caller
 /// (LcmFingerprint, which also checks the layout: this function does not, and a layout that was
 /// never checked may throw other than LcmDecodeError) and *record reused, every field of the layout
-/// overwritten (its vectors keep their capacity), so that a decoder of a fixed layout allocates
-/// nothing per message for numbers once the arrays have reached their size (strings longer than
-/// the standard library's small-string buffer are still allocated). After a throw *record holds a
-/// partial message.
+/// overwritten in place (its vectors and strings keep their capacity), so that a decoder of a
+/// fixed layout allocates nothing per message once the arrays and names have reached their size.
+/// After a throw *record holds a partial message.
 /// @throws LcmDecodeError.
 void DecodeLcmInto(const LcmLayout& layout, std::uint64_t fingerprint, const void* data, std::size_t size,
                    LcmRecord* record, int max_array_length = 4096);
