@@ -12,6 +12,8 @@
 
 #include <unistd.h>
 
+#include "inertial/estimation/state_entry_names.hpp"
+#include "inertial/estimation/state_extension.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/residual_t.hpp"
 #include "inertial/runtime/bounded_queue.hpp"
@@ -157,6 +159,88 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
   if (!can) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
 }
 
+namespace {
+
+// A robot's checkpoint description (CheckpointDescription, estimate_message.hpp: "<kind> estimator;
+// joints j1 j2 ...; parameters p1 p2 ..."), split into its parts.
+struct CheckpointModel {
+  std::string kind;
+  std::vector<std::string> joints, parameters;
+};
+
+std::vector<std::string> Words(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> words;
+  for (std::string w; in >> w;) words.push_back(w);
+  return words;
+}
+
+std::string Joined(const std::vector<std::string>& words) {
+  std::string text;
+  for (const std::string& w : words) text += (text.empty() ? "" : " ") + w;
+  return text;
+}
+
+// Nullopt for any other description (a single body's, a foreign writer's).
+std::optional<CheckpointModel> ParseCheckpointDescription(const std::string& description) {
+  const std::string joints = " estimator; joints", parameters = "; parameters";
+  const size_t a = description.find(joints);
+  if (a == std::string::npos) return std::nullopt;
+  const size_t b = description.find(parameters, a + joints.size());
+  if (b == std::string::npos) return std::nullopt;
+  CheckpointModel m;
+  m.kind = description.substr(0, a);
+  m.joints = Words(description.substr(a + joints.size(), b - a - joints.size()));
+  m.parameters = Words(description.substr(b + parameters.size()));
+  return m;
+}
+
+// A checkpoint of the same estimator kind, joints and links as `estimator` with fewer effects (its
+// description differs from the model's): its state carried into the model by name
+// (state_extension.hpp), the new effects' parameters at their priors with their prior variance.
+// Nullopt, and *why naming what differs, for another estimator, other joints, a link missing from
+// the checkpoint, or a parameter of the checkpoint this model lacks (an effect removed).
+std::optional<ExtendedState> CheckpointWithFewerEffects(const std::string& description, const EstimatorState& saved,
+                                                        const OnlineJointEstimator& estimator, std::string* why) {
+  const std::optional<CheckpointModel> checkpoint = ParseCheckpointDescription(description);
+  if (!checkpoint) {
+    *why = "it is not a robot's checkpoint";
+    return std::nullopt;
+  }
+  const std::string kind(ToString(estimator.kind()));
+  if (checkpoint->kind != kind) {
+    *why = "it is of a '" + checkpoint->kind + "' estimator, this one is '" + kind + "'";
+    return std::nullopt;
+  }
+  const RobotDynamics& model = estimator.model();
+  if (checkpoint->joints != model.dof_names()) {
+    *why = "its joints are '" + Joined(checkpoint->joints) + "', this model's '" + Joined(model.dof_names()) + "'";
+    return std::nullopt;
+  }
+  // Only effects may be new: every link of the model has its estimate in the checkpoint.
+  const std::vector<std::string> parameters = model.ParameterNames();
+  const std::set<std::string> saved_parameters(checkpoint->parameters.begin(), checkpoint->parameters.end());
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const EstimatedBody& body = model.bodies()[e];
+    const bool link = !model.tree().is_rotor(body.tree_body) && model.tree().body_name(body.tree_body) == body.name;
+    if (link && saved_parameters.count(parameters[10 * e]) == 0) {
+      *why = "it has no estimate of link '" + body.name + "'";
+      return std::nullopt;
+    }
+  }
+  std::string missing;
+  const std::optional<std::vector<std::string>> saved_names =
+      StateEntryNames(model, estimator.kind(), checkpoint->parameters, &missing);
+  if (!saved_names) {
+    *why = missing + " (were effects removed?)";
+    return std::nullopt;
+  }
+  const std::optional<std::vector<std::string>> names = StateEntryNames(model, estimator.kind(), parameters, nullptr);
+  return ExtendEstimatorState(saved, *saved_names, estimator.estimator().State(), *names, why);
+}
+
+}  // namespace
+
 void EstimationDaemon::RestoreCheckpoint() {
   if (options_.checkpoint_path.empty()) return;
   const std::filesystem::path path(options_.checkpoint_path);
@@ -190,16 +274,37 @@ void EstimationDaemon::RestoreCheckpoint() {
     unusable(std::string("is not a checkpoint this daemon can read (") + e.what() + ")");
   }
   std::string why;
+  const auto samples = [&] {
+    return std::to_string(state->counters.accepted()) + " samples, last at t = " + std::to_string(state->last_time) + " s";
+  };
   if (!state) {
     // already reported
-  } else if (description != CheckpointDescription(*pipeline_)) {
+  } else if (description == CheckpointDescription(*pipeline_)) {
+    if (!pipeline_->estimator().Restore(*state, &why)) {
+      unusable("cannot be restored: " + why);
+    } else {
+      restored_ = true;
+      Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" + samples() + ")");
+    }
+  } else if (!robot_) {
     unusable("is a checkpoint of another model or estimator (" + description + ")");
-  } else if (!pipeline_->estimator().Restore(*state, &why)) {
-    unusable("cannot be restored: " + why);
   } else {
-    restored_ = true;
-    Log(LogLevel::kInfo, "restored " + options_.checkpoint_path + " (" + std::to_string(state->counters.accepted()) +
-                             " samples, last at t = " + std::to_string(state->last_time) + " s)");
+    // The same links and joints with fewer effects (e.g. --effects grown): every saved parameter kept.
+    const std::optional<ExtendedState> extended = CheckpointWithFewerEffects(description, *state, *robot_, &why);
+    if (!extended) {
+      unusable("is a checkpoint of another model or estimator: " + why + " (checkpoint of: " + description + ")");
+    } else if (!pipeline_->estimator().Restore(extended->state, &why)) {
+      unusable("cannot be restored: " + why);
+    } else {
+      restored_ = true;
+      const std::string kept = std::to_string(state->x.size()) + " parameters (every link)";
+      Log(LogLevel::kInfo,
+          "restored " + options_.checkpoint_path +
+              (extended->added.empty() ? " into a model of the same parameters in another order: kept " + kept
+                                       : " into a model with more effects: kept " + kept +
+                                             ", new at their priors: " + Joined(extended->added)) +
+              " (" + samples() + ")");
+    }
   }
 }
 
