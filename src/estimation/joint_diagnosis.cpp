@@ -153,17 +153,7 @@ std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const J
     const InertialParams prior = model.BodyInertia(i, x_prior);
     DepartureMargins margins;
     if (e < u.bodies.size() && e < u.body_pi_covariance.size()) {
-      margins.mass = kDepartureMargin * u.bodies[e].mass;
-      // The first moment about the prior's COM, m c - m c0 = h - m c0: linear in pi.
-      Eigen::Matrix<double, 3, 10> T = Eigen::Matrix<double, 3, 10>::Zero();
-      T.col(0) = -prior.com();
-      T.block<3, 3>(0, 1).setIdentity();
-      margins.first_moment = kDepartureMargin * kDepartureMargin * T * u.body_pi_covariance[e] * T.transpose();
-      margins.inertia_about_com = kDepartureMargin * u.bodies[e].inertia_about_com;
-      if (!std::isfinite(u.bodies[e].mass) || !u.bodies[e].com.allFinite()) {
-        // Mass or COM undetermined: so is the first moment's departure (no departure counted).
-        margins.first_moment = std::numeric_limits<double>::infinity() * Matrix3::Identity();
-      }
+      margins = DepartureMarginsOf(prior, u.bodies[e], u.body_pi_covariance[e]);
     }
     try {
       out.push_back(MeasurePlausibility(model.BodyInertia(i, x), prior, margins));

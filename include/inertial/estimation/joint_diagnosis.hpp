@@ -45,20 +45,14 @@
 #include <vector>
 
 #include "inertial/estimation/candidate_evidence.hpp"
+#include "inertial/estimation/departure_margins.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/estimation/joint_identification.hpp"
 #include "inertial/inertia/plausibility.hpp"
 
 namespace inertial {
 
-/// Departures count beyond kDepartureMargin standard deviations of the estimate (plausibility.hpp):
-/// a link's poorly excited directions stray by their uncertainty, not by a missing effect. Two: a
-/// true link inside the tolerance (a CAD model's ordinary error, factors up to about 1.4 against a
-/// tolerance of 1.75) must be pushed by noise past the tolerance and 2 standard deviations more to
-/// count, rare even among the tens of quantities of a robot's links (one-sided 2.3 % for a link at
-/// the tolerance itself, far less inside it); three would hide a payload as heavy as an arm's last
-/// link, whose mass the data fix to about a quarter of it.
-inline constexpr double kDepartureMargin = 2.0;
+// kDepartureMargin: departure_margins.hpp
 
 /// Builds the robot's model with the given effects (throws std::invalid_argument on a bad effect).
 using RobotModelFactory = std::function<RobotDynamics(const std::vector<EffectSpec>& effects)>;

@@ -1,0 +1,85 @@
+/// @file stream_diagnosis.hpp
+/// The online diagnosis (estimation/online_diagnosis.hpp) beside the estimator of inertiald and of
+/// replay, off the estimator's hot path (the realtime_tools pattern: the real-time loop never
+/// blocks and never computes what can wait).
+///
+/// The estimator's thread calls Observe() after each sample it accepted: the sample's state and the
+/// estimator's residual before the update are copied into a ring of fixed capacity (allocated once;
+/// a full ring drops the sample and counts it) under an uncontended mutex, with no wake-up call. A
+/// worker thread drains the ring every few milliseconds into OnlineDiagnosis::Add and, when asked
+/// (RequestEvaluation, with the estimator's bodies for the payload candidates), judges the
+/// candidates and keeps the result for Latest(). With threaded = false (replay) Observe() adds
+/// directly and Evaluate() judges at once, so a replay's result does not depend on scheduling.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "inertial/estimation/online_diagnosis.hpp"
+#include "inertial/estimation/online_joint_estimator.hpp"
+
+namespace inertial {
+
+struct StreamDiagnosisOptions {
+  OnlineDiagnosisOptions diagnosis;
+  bool threaded = true;
+  /// Samples the ring holds between two drains (the worker drains every 5 ms: 4096 is 4 s at 1 kHz).
+  int capacity = 4096;
+};
+
+/// The estimator's bodies as OnlineBodyStates (allocates: call it at publication time, not per tick).
+std::vector<OnlineBodyState> BodyStatesOf(const OnlineJointEstimator& estimator);
+
+class StreamDiagnosis {
+ public:
+  /// @throws std::invalid_argument for bad options (as OnlineDiagnosis; capacity < 1).
+  StreamDiagnosis(const RobotDynamics& model, const StreamDiagnosisOptions& options);
+  ~StreamDiagnosis();
+  StreamDiagnosis(const StreamDiagnosis&) = delete;
+  StreamDiagnosis& operator=(const StreamDiagnosis&) = delete;
+
+  /// One accepted sample and the estimator's residual before it updated on it. Never allocates,
+  /// never blocks on the worker, never throws.
+  void Observe(const JointSample& sample, const Eigen::VectorXd& residual) noexcept;
+  /// The system changed (the estimator's change detector fired): the statistics start again.
+  void Reset();
+  /// Threaded: asks the worker to judge the candidates with `bodies` once it has added what was
+  /// observed so far; the result appears in Latest(). Unthreaded: judges now.
+  void RequestEvaluation(std::vector<OnlineBodyState> bodies);
+  /// The latest judgement (none before the first).
+  std::optional<OnlineDiagnosisResult> Latest() const;
+  /// Judges now, after every observed sample is added (the end of a replay or of the daemon).
+  OnlineDiagnosisResult EvaluateNow(const std::vector<OnlineBodyState>& bodies);
+  /// Samples dropped because the ring was full.
+  std::uint64_t dropped() const { return dropped_.load(); }
+
+ private:
+  struct Entry {
+    double t = 0.0;
+    Eigen::VectorXd q, qd, qdd, tau, residual;
+  };
+  void Drain();
+  void Work();
+
+  OnlineDiagnosis diagnosis_;  // under diagnosis_mutex_
+  StreamDiagnosisOptions options_;
+  std::vector<Entry> ring_;    // under ring_mutex_
+  std::size_t head_ = 0, size_ = 0;
+  Entry scratch_;              // the worker's copy
+  mutable std::mutex ring_mutex_, diagnosis_mutex_, result_mutex_, drain_mutex_;
+  std::condition_variable wake_;
+  std::optional<std::vector<OnlineBodyState>> request_;  // under result_mutex_
+  bool reset_requested_ = false;                          // under result_mutex_
+  std::optional<OnlineDiagnosisResult> latest_;          // under result_mutex_
+  std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<bool> stop_{false};
+  std::thread worker_;
+};
+
+}  // namespace inertial
