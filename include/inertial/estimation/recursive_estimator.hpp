@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include <Eigen/Core>
@@ -57,6 +58,10 @@ class RecursiveEstimator {
   virtual void Coefficients(Eigen::Ref<Eigen::VectorXd> w) const = 0;
   /// Covariance of x (allocates); empty for estimators that keep none.
   virtual Eigen::MatrixXd Covariance() const = 0;
+  /// How many changes of the system the estimator's change detector has taken (a run of more than
+  /// KalmanOptions::max_consecutive_outliers outliers: the covariance reset, kalman_update.hpp);
+  /// 0 for an estimator without one. Allocation-free.
+  virtual std::uint64_t changes_detected() const { return 0; }
 
   const UpdateCounters& counters() const { return counters_; }
   /// Counts a sample that an adapter (e.g. OnlineJointEstimator) rejected or buffered before Update().

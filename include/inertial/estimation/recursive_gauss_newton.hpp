@@ -48,6 +48,7 @@ class BasicRecursiveGaussNewton final : public RecursiveEstimator {
   const Eigen::VectorXd& parameters() const override { return x_; }
   void Coefficients(Eigen::Ref<Eigen::VectorXd> w) const override { layout_.Coefficients(x_, w); }
   Eigen::MatrixXd Covariance() const override { return kalman_.Covariance(); }
+  std::uint64_t changes_detected() const override { return kalman_.changes_detected(); }
   const ParameterLayout& layout() const { return layout_; }
   /// sqrt(d^2/m) of the last sample's innovation, in measurement sigmas.
   double normalized_innovation() const { return kalman_.normalized_innovation(); }
