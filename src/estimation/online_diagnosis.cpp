@@ -11,6 +11,7 @@
 #include "inertial/estimation/explained_error.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "inertial/inertia/nearest_consistent.hpp"
 
 namespace inertial {
 namespace {
@@ -127,7 +128,8 @@ OnlineDiagnosis::OnlineDiagnosis(const RobotDynamics& model, const OnlineDiagnos
   }
   block_s_ = options.window_s / options.blocks;
   const std::vector<std::string>& joints = model.dof_names();
-  const std::string scale = ":scale=" + std::to_string(options.coulomb_velocity_scale).substr(0, 8);
+  EffectSpec shaped;
+  shaped.velocity_scale = options.coulomb_velocity_scale;
   for (int j = 0; j < dofs_; ++j) {
     const std::string& joint = joints[j];
     for (EffectKind kind : options.joint_kinds) {
@@ -142,7 +144,9 @@ OnlineDiagnosis::OnlineDiagnosis(const RobotDynamics& model, const OnlineDiagnos
         case EffectKind::kCoulomb:
           if (HasEffect(model, j, {EffectKind::kCoulomb, EffectKind::kAsymmetric, EffectKind::kSigmoid})) continue;
           c.features[0] = kTanh;
-          c.item += scale;
+          shaped.kind = kind;
+          shaped.target = joint;
+          c.item = EffectItem(shaped);
           break;
         case EffectKind::kAsymmetric:
           if (HasEffect(model, j, {EffectKind::kAsymmetric, EffectKind::kSigmoid})) continue;
@@ -150,7 +154,9 @@ OnlineDiagnosis::OnlineDiagnosis(const RobotDynamics& model, const OnlineDiagnos
           c.features[1] = kNegative;
           c.num_features = 2;
           c.parameters = 2;
-          c.item += scale;
+          shaped.kind = kind;
+          shaped.target = joint;
+          c.item = EffectItem(shaped);
           if (HasEffect(model, j, {EffectKind::kCoulomb})) {
             // Fitted to the residual, [s+, s-] on top of the model's step is the asymmetric form in
             // its place: one parameter more than the step it replaces.
@@ -384,8 +390,21 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
     bool has_payload = false;
     for (const OnlineBodyState& other : bodies) has_payload = has_payload || other.name == "payload@" + s.name;
     if (has_payload) continue;
-    const InertialParams added = InertialParams::FromVector(s.estimate.vector() - s.prior.vector());
-    if (!(added.mass() > 0.0) || !IsPhysicallyConsistent(added, 1e-9)) continue;
+    // The payload: what the link carries beyond its URDF, made the nearest consistent body (the
+    // estimate's own noise and CAD error can leave the bare difference slightly inconsistent).
+    InertialParams added;
+    std::string why;
+    if (!(s.estimate.mass() - s.prior.mass() > 0.0)) {
+      out.notes.push_back(s.name + " is bent but not heavier than its URDF: no payload candidate");
+      continue;
+    }
+    if (!NearestConsistentBody(InertialParams::FromVector(s.estimate.vector() - s.prior.vector()), &added, &why) ||
+        !(added.mass() > 0.0)) {
+      out.notes.push_back(s.name + ": what it carries beyond its URDF is no body (" + why + "): no payload candidate");
+      continue;
+    }
+    // As the batch diagnosis tests it: the link held at its URDF, the payload carrying the rest.
+    const double excess_after = 0.0;
     const double excess = plausibility[e].Excess(tolerance);
     OnlineCandidate oc;
     oc.name = "payload@" + s.name;
@@ -395,7 +414,7 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
     const Vector10 v = added.vector();
     oc.values.assign(v.data(), v.data() + 10);
     oc.evidence = JudgeCandidate(out.model, out.model, out.autocorrelation, N, out.implausibility,
-                                 out.implausibility - (std::isfinite(excess) ? excess : kUnmeasurableExcess), 10,
+                                 out.implausibility - (std::isfinite(excess) ? excess : kUnmeasurableExcess) + excess_after, 10,
                                  PriorOdds::kOrdinary, options_.rules);
     out.candidates.push_back(oc);
   }

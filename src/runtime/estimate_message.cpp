@@ -42,6 +42,8 @@ inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialPa
 }
 
 void SetCounters(const SampleCounters& counters, inertial::estimate_t* m) {
+  m->num_unexcited = 0;  // a robot's encoder fills them in after
+  m->unexcited.clear();
   m->received = static_cast<std::int64_t>(counters.received);
   m->accepted = static_cast<std::int64_t>(counters.accepted);
   m->dropped = static_cast<std::int64_t>(counters[Rejection::kQueueFull]);
@@ -91,7 +93,7 @@ std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, con
 
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::int64_t utime,
                                          const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const SampleCounters& counters) {
+                                         const SampleCounters& counters, const std::vector<std::string>& unexcited) {
   const RobotDynamics& model = est.model();
   inertial::estimate_t m;
   m.utime = utime;
@@ -121,14 +123,18 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
   m.residual_rms.resize(m.channel_names.size(), 0.0);
   m.residual_window = residual_window;
   SetCounters(counters, &m);
+  m.unexcited = unexcited;
+  m.num_unexcited = static_cast<std::int32_t>(m.unexcited.size());
   return Encode(m);
 }
 
 
-std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters) {
+std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters,
+                                         const std::vector<std::string>& unexcited) {
   const Eigen::VectorXd rms = pipeline.ResidualRms();
-  return pipeline.body_mode() ? EncodeBodyEstimate(*pipeline.body(), "body", utime, rms, pipeline.residual_window_s(), counters)
-                              : EncodeEstimate(*pipeline.robot(), utime, rms, pipeline.residual_window_s(), counters);
+  return pipeline.body_mode()
+             ? EncodeBodyEstimate(*pipeline.body(), "body", utime, rms, pipeline.residual_window_s(), counters)
+             : EncodeEstimate(*pipeline.robot(), utime, rms, pipeline.residual_window_s(), counters, unexcited);
 }
 
 std::string CheckpointDescription(const OnlineJointEstimator& estimator) {

@@ -1,5 +1,8 @@
 #include "inertial/runtime/estimation_daemon.hpp"
 
+#include "inertial/report/online_diagnosis_report.hpp"
+#include "inertial/runtime/diagnosis_message.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -156,6 +159,17 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
                              "'");
   }
   RestoreCheckpoint();
+  if (robot_ && !options_.diagnosis_channel.empty()) {
+    CheckLcmChannelName(options_.diagnosis_channel, "inertiald: the diagnosis channel");
+    if (!(options_.diagnosis_period_s > 0)) throw std::invalid_argument("inertiald: the diagnosis period must be positive");
+    diagnosis_ = std::make_unique<StreamDiagnosis>(robot_->model(),
+                                                   StreamDiagnosisOptionsFor(robot_->model(), options_.estimator));
+    changes_seen_ = robot_->estimator().changes_detected();
+  }
+  if (robot_ && !options_.payload_channel.empty()) {
+    CheckLcmChannelName(options_.payload_channel, "inertiald: the payload event channel");
+    payload_events_ = std::make_unique<PayloadEventDetector>(*robot_);
+  }
   if (!can) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
 }
 
@@ -347,6 +361,26 @@ void EstimationDaemon::Log(LogLevel level, const std::string& text) const {
 void EstimationDaemon::Process(Sample* sample) {
   std::lock_guard<std::mutex> lock(process_mutex_);
   const SamplePipeline::Outcome outcome = pipeline_->Process(sample);
+  if (diagnosis_) {
+    // The residual before the update: a prequential (held-out) error. A detected change of the
+    // system (the covariance reset) starts the diagnosis's statistics again.
+    const std::uint64_t changes = robot_->estimator().changes_detected();
+    if (changes != changes_seen_) {
+      changes_seen_ = changes;
+      diagnosis_->Reset();
+    }
+    if (outcome.accepted()) diagnosis_->Observe(sample->joint, robot_->residual());
+  }
+  if (payload_events_ && outcome.rejection == Rejection::kNone) {
+    if (const std::optional<PayloadEvent> event = payload_events_->Observe(*robot_, sample->joint)) {
+      const std::vector<std::uint8_t> bytes = EncodePayloadEvent(*event);
+      if (impl_->lcm.publish(options_.payload_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0) {
+        std::lock_guard<std::mutex> sinks(sinks_mutex_);
+        ++payload_events_published_;
+      }
+      Log(LogLevel::kInfo, PayloadEventText(*event));
+    }
+  }
   if (!robot_ || options_.residual_channel.empty() || outcome.rejection != Rejection::kNone) return;
   const JointSample& j = sample->joint;
   inertial::residual_t m;
@@ -364,10 +398,15 @@ void EstimationDaemon::Process(Sample* sample) {
 
 void EstimationDaemon::Publish(std::int64_t utime) {
   const SampleCounters totals = counters().samples;
+  std::vector<std::string> unexcited;
+  {
+    std::lock_guard<std::mutex> lock(sinks_mutex_);
+    unexcited = unexcited_;
+  }
   std::vector<std::uint8_t> bytes;
   {
     std::lock_guard<std::mutex> lock(process_mutex_);
-    bytes = EncodeEstimate(*pipeline_, utime, totals);
+    bytes = EncodeEstimate(*pipeline_, utime, totals, unexcited);
   }
   const bool sent = impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0;
   {
@@ -380,6 +419,53 @@ void EstimationDaemon::Publish(std::int64_t utime) {
   } else if (sent && Recovered("publish")) {
     Log(LogLevel::kInfo, "publishing on " + options_.estimate_channel + " again");
   }
+}
+
+void EstimationDaemon::PublishDiagnosis(std::int64_t utime) {
+  if (!diagnosis_) return;
+  if (const std::optional<StreamJudgement> latest = diagnosis_->Latest()) {
+    const std::vector<std::uint8_t> bytes = EncodeDiagnosis(latest->diagnosis, utime);
+    if (impl_->lcm.publish(options_.diagnosis_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0) {
+      std::lock_guard<std::mutex> lock(sinks_mutex_);
+      ++diagnoses_;
+    }
+    if (latest->excitation) {
+      // The excitation in the log when it changes (not at every period).
+      const std::string text = UnexcitedText(*latest->excitation);
+      if (text != last_excitation_text_) Log(LogLevel::kInfo, "excitation: " + text);
+      last_excitation_text_ = text;
+      std::lock_guard<std::mutex> lock(sinks_mutex_);
+      unexcited_ = UnexcitedNames(*latest->excitation, false);
+    }
+  }
+  std::vector<OnlineBodyState> bodies;
+  Eigen::VectorXd x;
+  {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    bodies = BodyStatesOf(*robot_);
+    x = robot_->estimator().parameters();
+  }
+  diagnosis_->RequestEvaluation(std::move(bodies), std::move(x));
+}
+
+void EstimationDaemon::FinalDiagnosis(std::int64_t utime) {
+  if (!diagnosis_) return;
+  std::vector<OnlineBodyState> bodies;
+  Eigen::VectorXd x;
+  {
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    bodies = BodyStatesOf(*robot_);
+    x = robot_->estimator().parameters();
+  }
+  const StreamJudgement judged = diagnosis_->EvaluateNow(bodies, x);
+  const OnlineDiagnosisResult& result = judged.diagnosis;
+  if (judged.excitation) Log(LogLevel::kInfo, "excitation: " + UnexcitedText(*judged.excitation));
+  const std::vector<std::uint8_t> bytes = EncodeDiagnosis(result, utime);
+  if (impl_->lcm.publish(options_.diagnosis_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0) {
+    std::lock_guard<std::mutex> lock(sinks_mutex_);
+    ++diagnoses_;
+  }
+  Log(LogLevel::kInfo, OnlineDiagnosisText(result));
 }
 
 void EstimationDaemon::Checkpoint() {
@@ -434,6 +520,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
                            std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
   double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
   double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
+  double next_diagnosis = NowSeconds() + options_.diagnosis_period_s;
   auto utime = [&] {
     std::lock_guard<std::mutex> lock(process_mutex_);
     return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
@@ -451,6 +538,10 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
         Checkpoint();
         next_checkpoint = now + options_.checkpoint_interval_s;
       }
+      if (diagnosis_ && now >= next_diagnosis) {
+        PublishDiagnosis(utime());
+        next_diagnosis = now + options_.diagnosis_period_s;
+      }
       if (model_request_ != nullptr && model_request_->exchange(false)) WriteModel();
     }
   } catch (const std::exception& e) {
@@ -462,6 +553,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   if (failed) return 1;
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
   Publish(utime());
+  FinalDiagnosis(utime());
   Checkpoint();
   WriteModel();
   Log(LogLevel::kInfo, CountersText());
@@ -484,6 +576,9 @@ DaemonCounters EstimationDaemon::counters() const {
   c.checkpoints = checkpoints_;
   c.checkpoint_failures = checkpoint_failures_;
   c.publish_failures = publish_failures_;
+  c.diagnoses = diagnoses_;
+  c.payload_events = payload_events_published_;
+  if (diagnosis_) c.diagnosis_dropped = diagnosis_->dropped();
   return c;
 }
 
@@ -497,6 +592,9 @@ std::string EstimationDaemon::CountersText() const {
   if (!reasons.empty()) out << " (" << reasons << ")";
   out << ", dropped " << dropped << "; published " << c.published << " estimates, " << c.checkpoints
       << " checkpoints";
+  if (c.diagnoses > 0) out << "; " << c.diagnoses << " diagnoses";
+  if (c.payload_events > 0) out << "; " << c.payload_events << " payload events";
+  if (c.diagnosis_dropped > 0) out << "; " << c.diagnosis_dropped << " samples the diagnosis had no room for";
   if (c.publish_failures > 0) out << "; " << c.publish_failures << " estimates LCM could not send";
   if (c.checkpoint_failures > 0) out << "; " << c.checkpoint_failures << " checkpoints that could not be written";
   return out.str();

@@ -45,13 +45,13 @@ struct StreamOutcome {
   Eigen::VectorXd effect_share;  // per joint: RMS of the hidden effect's torque / RMS torque
 };
 
-// The leg with CAD-error links (inside the prior tolerance) and `hidden` effects, 40 s at 500 Hz,
+// The leg with CAD-error links (inside the prior tolerance) and `hidden` effects, 30 s at 250 Hz,
 // through the Gauss-Newton estimator of the links (+ model_effects) and the diagnosis.
 StreamOutcome RunStream(const std::string& hidden, const std::vector<double>& values, const std::string& model_effects = "",
                         std::uint64_t seed = 5) {
   const RobotDynamics truth = Leg(hidden);
   const Eigen::VectorXd x_true = testing::CadErrorParameters(truth, values.empty() ? std::vector<double>{0.0} : values, seed);
-  const testing::SimulatedLogs logs = testing::SimulateLogs(truth, x_true, kSigma, 40.0, seed + 10, 500);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(truth, x_true, kSigma, 30.0, seed + 10, 250);
   StreamOutcome out;
   const RobotDynamics links = Leg();
   const Eigen::MatrixXd full = PredictJointTorques(truth, x_true, logs.test_clean);

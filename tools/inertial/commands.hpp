@@ -92,7 +92,7 @@ int RunDiagnoseCommand(const DiagnoseCommand& command);
 struct ReplayCommand {
   std::string model, log, candump, can_config, effects, config, channel, out, write_log, write_urdf, time_scale;
   std::string estimator, noise_tau, publish_rate;  ///< empty: --config's, or the defaults
-  bool realtime = false;
+  bool realtime = false, diagnose = false, json = false;
 };
 CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* command);
 int RunReplayCommand(const ReplayCommand& command);

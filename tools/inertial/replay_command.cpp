@@ -6,12 +6,15 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "inertial/config/motors_yaml.hpp"
+#include "inertial/estimation/payload_event.hpp"
 #include "inertial/formats/model_file.hpp"
+#include "inertial/report/online_diagnosis_report.hpp"
 #include "inertial/report/online_estimate_text.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/runtime/log_replay.hpp"
 #include "inertial/runtime/replay_config.hpp"
 #include "inertial/runtime/replay_summary.hpp"
+#include "inertial/runtime/stream_diagnosis.hpp"
 #include "inertial/transport/can_joint_assembler.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
@@ -43,6 +46,10 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   sub->add_option("--time-scale", c->time_scale,
                   "joint CSV logs: multiply the time stamps by this to get seconds (1e-3 for ms, 1e-9 for ns)");
   sub->add_flag("--realtime", c->realtime, "follow the log's time stamps instead of running as fast as possible");
+  sub->add_flag("--diagnose", c->diagnose,
+                "judge every candidate effect on the stream as it is replayed (each sample predicted before it is "
+                "learned from) and end with the ranked missing effects");
+  sub->add_flag("--json", c->json, "print the summary (and with --diagnose the diagnosis) as JSON on stdout");
   return sub;
 }
 
@@ -115,9 +122,25 @@ int CheckMotorsFitModel(const ReplayCommand& c, const ReplayOptions& options, co
   return kOk;
 }
 
-int Replay(const std::string& path, OnlineJointEstimator* estimator, const ReplayOptions& options, ReplayResult* r) {
+// The log through the estimator; with `diagnosis`, each accepted sample and the estimator's residual
+// before its update go to it (a detected change restarts its statistics); payload events into *events.
+int Replay(const std::string& path, OnlineJointEstimator* estimator, const ReplayOptions& options, ReplayResult* r,
+           StreamDiagnosis* diagnosis, std::vector<PayloadEvent>* events) {
   try {
-    *r = ReplayLog(path, estimator, options);
+    PayloadEventDetector detector(*estimator);
+    std::uint64_t changes = estimator->estimator().changes_detected();
+    const std::function<void(const Sample&, SamplePipeline::Outcome)> observe =
+        [&](const Sample& s, SamplePipeline::Outcome outcome) {
+          if (outcome.rejection != Rejection::kNone) return;
+          if (std::optional<PayloadEvent> e = detector.Observe(*estimator, s.joint)) events->push_back(std::move(*e));
+          if (diagnosis == nullptr) return;
+          if (estimator->estimator().changes_detected() != changes) {
+            changes = estimator->estimator().changes_detected();
+            diagnosis->Reset();
+          }
+          if (outcome.accepted()) diagnosis->Observe(s.joint, estimator->residual());
+        };
+    *r = ReplayLog(path, estimator, options, observe);
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
@@ -173,13 +196,63 @@ int RunReplayCommand(const ReplayCommand& c) {
   if (status != kOk) return status;
   OnlineJointEstimator estimator(*model, Eigen::VectorXd::Zero(model->num_parameters()), config.estimator);
   ReplayResult r;
-  if ((status = Replay(path, &estimator, config.replay, &r)) != kOk) return status;
-  std::cout << ReplaySummaryText(path, config.replay, r);
+  std::optional<StreamDiagnosis> diagnosis;
+  if (c.diagnose) {
+    StreamDiagnosisOptions options = StreamDiagnosisOptionsFor(*model, config.estimator);
+    options.threaded = false;  // a replay's diagnosis does not depend on scheduling
+    diagnosis.emplace(*model, options);
+  }
+  std::vector<PayloadEvent> events;
+  if ((status = Replay(path, &estimator, config.replay, &r, diagnosis ? &*diagnosis : nullptr, &events)) != kOk) {
+    return status;
+  }
   if (r.counters.accepted == 0) {
+    if (!c.json) std::cout << ReplaySummaryText(path, config.replay, r);
     std::cerr << "Error: " << NothingReplayedText(path, config.replay, r) << "\n";
     return kNoData;
   }
-  std::cout << OnlineEstimateText(estimator);
+  std::optional<StreamJudgement> judged;
+  if (diagnosis) judged = diagnosis->EvaluateNow(BodyStatesOf(estimator), estimator.estimator().parameters());
+  if (c.json) {
+    nlohmann::json events_json = nlohmann::json::array();
+    for (const PayloadEvent& e : events) {
+      events_json.push_back({{"onset_time", e.onset_time},
+                             {"detection_time", e.detection_time},
+                             {"settle_time", e.settle_time},
+                             {"settled", e.settled},
+                             {"link", e.link},
+                             {"added_mass", e.added_mass},
+                             {"added_mass_std", e.added_mass_std},
+                             {"com", {e.com[0], e.com[1], e.com[2]}},
+                             {"com_std", {e.com_std[0], e.com_std[1], e.com_std[2]}},
+                             {"text", PayloadEventText(e)}});
+    }
+    nlohmann::json j = {{"log", path},
+                        {"received", r.counters.received},
+                        {"accepted", r.counters.accepted},
+                        {"rejected", r.counters.total_rejected()},
+                        {"samples_per_second", r.samples_per_second}};
+    if (judged) {
+      const nlohmann::json d = OnlineDiagnosisJson(judged->diagnosis);
+      j["suggestions"] = d["suggestions"];
+      j["diagnosis"] = d;
+      if (judged->excitation) {
+        j["unexcited"] = UnexcitedNames(*judged->excitation, false);
+        j["unexcited_since_start"] = UnexcitedNames(*judged->excitation, true);
+        j["excitation"] = UnexcitedText(*judged->excitation);
+      }
+    }
+    j["payload_events"] = events_json;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << ReplaySummaryText(path, config.replay, r);
+    std::cout << OnlineEstimateText(estimator);
+    for (const PayloadEvent& e : events) std::cout << PayloadEventText(e) << "\n";
+    if (judged) {
+      std::cout << OnlineDiagnosisText(judged->diagnosis);
+      if (judged->excitation) std::cout << "Excitation: " << UnexcitedText(*judged->excitation) << "\n";
+    }
+  }
   if (!c.write_urdf.empty() && (status = WriteFinalModel(c, path, robot, estimator, r)) != kOk) return status;
   if (!c.out.empty()) std::cerr << "wrote " << c.out << ": " << r.estimate_rows << " rows\n";
   if (!c.write_log.empty()) std::cerr << "wrote " << c.write_log << ": " << r.estimate_rows << " estimates\n";

@@ -21,6 +21,14 @@ struct DaemonOptions {
   std::string input_channel = "INERTIAL_JOINT_STATE";
   std::string estimate_channel = "INERTIAL_ESTIMATE";
   std::string residual_channel;                     ///< empty: no per-sample residual messages
+  /// Robot mode: the online diagnosis (stream_diagnosis.hpp) in its own thread, published as
+  /// inertial.diagnosis_t on this channel every diagnosis_period_s seconds and logged at exit;
+  /// empty: no diagnosis.
+  std::string diagnosis_channel = "INERTIAL_DIAGNOSIS";
+  double diagnosis_period_s = 5.0;
+  /// Robot mode, Gauss-Newton: payloads picked up or put down (payload_event.hpp) published as
+  /// inertial.payload_event_t on this channel and logged; empty: none.
+  std::string payload_channel = "INERTIAL_PAYLOAD_EVENT";
   JointMessageFormat format;
   double publish_rate_hz = 10.0;
   double residual_window_s = 1.0;

@@ -133,6 +133,7 @@ class OnlineDiagnosis {
   OnlineDiagnosisResult Evaluate(const std::vector<OnlineBodyState>& bodies = {}) const;
 
   int num_candidates() const { return static_cast<int>(candidates_.size()); }
+  const RobotDynamics& model() const { return model_; }
   /// Samples in the window now.
   int samples() const;
 

@@ -21,7 +21,9 @@ namespace inertial {
 
 /// The estimate message of the pipeline's estimator now (robot or body), with `counters`
 /// (normally TotalCounters of its stages).
-std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters);
+/// `unexcited`: the quantities the stream did not determine (excitation_monitor.hpp), robot mode.
+std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters,
+                                         const std::vector<std::string>& unexcited = {});
 
 /// The estimate message of the single-body estimator (one body `name`; channels mx .. fz).
 std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimator, const std::string& name,
@@ -31,7 +33,7 @@ std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimato
 /// The estimate message of an online estimator (bodies, effects, residual RMS, counters).
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& estimator, std::int64_t utime,
                                          const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const SampleCounters& counters);
+                                         const SampleCounters& counters, const std::vector<std::string>& unexcited = {});
 
 /// What a robot estimator's checkpoint says of its model ("gauss_newton estimator; joints ...;
 /// parameters ..."): a checkpoint is restored only into an estimator with the same description.

@@ -26,9 +26,11 @@
 #include "inertial/config/daemon_config.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/payload_event.hpp"
 #include "inertial/runtime/estimate_message.hpp"
 #include "inertial/runtime/sample_decoder.hpp"
 #include "inertial/runtime/sample_pipeline.hpp"
+#include "inertial/runtime/stream_diagnosis.hpp"
 #include "inertial/transport/can_bus.hpp"
 
 namespace lcm {
@@ -46,6 +48,9 @@ struct DaemonCounters {
   std::uint64_t checkpoints = 0;
   std::uint64_t checkpoint_failures = 0;  ///< checkpoints that could not be written
   std::uint64_t publish_failures = 0;     ///< estimates LCM could not send
+  std::uint64_t diagnoses = 0;            ///< diagnosis_t messages published
+  std::uint64_t diagnosis_dropped = 0;    ///< samples the diagnosis's ring had no room for
+  std::uint64_t payload_events = 0;       ///< payload events published
 };
 
 class EstimationDaemon {
@@ -70,6 +75,8 @@ class EstimationDaemon {
   const OnlineJointEstimator* robot_estimator() const { return robot_.get(); }
   /// The body's estimator, or null for a robot.
   const OnlineBodyEstimator* body_estimator() const { return body_.get(); }
+  /// The online diagnosis (robot mode with a diagnosis channel), else null.
+  StreamDiagnosis* diagnosis() const { return diagnosis_.get(); }
   /// Either mode's recursive estimator.
   const RecursiveEstimator& recursive_estimator() const { return pipeline_->estimator(); }
   /// The daemon's LCM instance (LCM publishes from any thread): with memq:// the only way in.
@@ -99,6 +106,10 @@ class EstimationDaemon {
   bool Recovered(const std::string& problem);
   void Process(Sample* sample);
   void Publish(std::int64_t utime);
+  /// The diagnosis's latest judgement on its channel, and a new one asked for (robot mode).
+  void PublishDiagnosis(std::int64_t utime);
+  /// At exit: the judgement of everything observed, published and logged.
+  void FinalDiagnosis(std::int64_t utime);
   void Checkpoint();
   void WriteModel();
 
@@ -106,10 +117,16 @@ class EstimationDaemon {
   std::unique_ptr<OnlineJointEstimator> robot_;
   std::unique_ptr<OnlineBodyEstimator> body_;
   std::unique_ptr<SamplePipeline> pipeline_;  // touched by the estimator thread, under process_mutex_
+  std::unique_ptr<StreamDiagnosis> diagnosis_;  // robot mode with a diagnosis channel; its own thread
+  std::uint64_t changes_seen_ = 0;            // the estimator's detected changes, under process_mutex_
+  std::unique_ptr<PayloadEventDetector> payload_events_;  // robot mode with a payload channel, under process_mutex_
   std::unique_ptr<Impl> impl_;
   mutable std::mutex process_mutex_, sinks_mutex_, log_mutex_, problems_mutex_;
   std::set<std::string> problems_;  // FirstTime
   std::uint64_t published_ = 0, checkpoints_ = 0, checkpoint_failures_ = 0, publish_failures_ = 0;  // sinks_mutex_
+  std::uint64_t diagnoses_ = 0, payload_events_published_ = 0;  // sinks_mutex_
+  std::vector<std::string> unexcited_;  // the latest excitation judgement's, for estimate_t; sinks_mutex_
+  std::string last_excitation_text_;    // the estimator thread's
   bool restored_ = false;
   std::function<void(const std::string&)> log_sink_;
   std::function<void(const OnlineJointEstimator&)> model_sink_;

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "inertial/estimation/excitation_monitor.hpp"
 #include "inertial/estimation/online_diagnosis.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
 
@@ -31,7 +32,23 @@ struct StreamDiagnosisOptions {
   bool threaded = true;
   /// Samples the ring holds between two drains (the worker drains every 5 ms: 4096 is 4 s at 1 kHz).
   int capacity = 4096;
+  /// The excitation monitor (excitation_monitor.hpp): the information of every excitation_decimation-th
+  /// sample, weighted by it, over excitation.window_seconds and since start. Off without a prior.
+  ExcitationOptions excitation;
+  int excitation_decimation = 4;
+  Eigen::VectorXd measurement_sigma;  ///< per DOF [N m]
+  Eigen::MatrixXd prior_covariance;   ///< of x at the start (the estimator's initial P); empty: no monitor
 };
+
+/// What the worker judged: the missing effects and, with a monitor, the excitation.
+struct StreamJudgement {
+  OnlineDiagnosisResult diagnosis;
+  std::optional<ExcitationReport> excitation;
+};
+
+/// StreamDiagnosisOptions for `estimator`'s model: the measurement sigma and the prior covariance of
+/// a fresh Gauss-Newton estimator with `options` (the information's reference, whatever the kind).
+StreamDiagnosisOptions StreamDiagnosisOptionsFor(const RobotDynamics& model, const OnlineEstimatorOptions& options);
 
 /// The estimator's bodies as OnlineBodyStates (allocates: call it at publication time, not per tick).
 std::vector<OnlineBodyState> BodyStatesOf(const OnlineJointEstimator& estimator);
@@ -49,13 +66,14 @@ class StreamDiagnosis {
   void Observe(const JointSample& sample, const Eigen::VectorXd& residual) noexcept;
   /// The system changed (the estimator's change detector fired): the statistics start again.
   void Reset();
-  /// Threaded: asks the worker to judge the candidates with `bodies` once it has added what was
-  /// observed so far; the result appears in Latest(). Unthreaded: judges now.
-  void RequestEvaluation(std::vector<OnlineBodyState> bodies);
+  /// Threaded: asks the worker to judge the candidates with `bodies` (and the excitation at the
+  /// estimator's parameters x) once it has added what was observed so far; the result appears in
+  /// Latest(). Unthreaded: judges now.
+  void RequestEvaluation(std::vector<OnlineBodyState> bodies, Eigen::VectorXd x);
   /// The latest judgement (none before the first).
-  std::optional<OnlineDiagnosisResult> Latest() const;
+  std::optional<StreamJudgement> Latest() const;
   /// Judges now, after every observed sample is added (the end of a replay or of the daemon).
-  OnlineDiagnosisResult EvaluateNow(const std::vector<OnlineBodyState>& bodies);
+  StreamJudgement EvaluateNow(const std::vector<OnlineBodyState>& bodies, const Eigen::VectorXd& x);
   /// Samples dropped because the ring was full.
   std::uint64_t dropped() const { return dropped_.load(); }
 
@@ -66,8 +84,14 @@ class StreamDiagnosis {
   };
   void Drain();
   void Work();
+  void AddToDiagnosis(const Entry& e);  // under diagnosis_mutex_
+  StreamJudgement Judge(const std::vector<OnlineBodyState>& bodies, const Eigen::VectorXd& x) const;
 
-  OnlineDiagnosis diagnosis_;  // under diagnosis_mutex_
+  OnlineDiagnosis diagnosis_;  // under diagnosis_mutex_, with the members below
+  std::optional<ExcitationMonitor> excitation_;
+  TreeWorkspace workspace_;
+  Eigen::MatrixXd features_;
+  std::uint64_t observed_ = 0;
   StreamDiagnosisOptions options_;
   std::vector<Entry> ring_;    // under ring_mutex_
   std::size_t head_ = 0, size_ = 0;
@@ -75,8 +99,9 @@ class StreamDiagnosis {
   mutable std::mutex ring_mutex_, diagnosis_mutex_, result_mutex_, drain_mutex_;
   std::condition_variable wake_;
   std::optional<std::vector<OnlineBodyState>> request_;  // under result_mutex_
+  Eigen::VectorXd request_x_;                            // under result_mutex_
   bool reset_requested_ = false;                          // under result_mutex_
-  std::optional<OnlineDiagnosisResult> latest_;          // under result_mutex_
+  std::optional<StreamJudgement> latest_;                // under result_mutex_
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<bool> stop_{false};
   std::thread worker_;
