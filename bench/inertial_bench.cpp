@@ -12,7 +12,13 @@
 // measurements), for how the cost grows with the robot.
 //   Information/k<k>/<model>    the information form of the linear update, its factor refreshed
 //                               every k samples, for the comparison of the two forms' costs;
-//   Gemm/<n>x<m>                Eigen's GEMM of the shape of P H^T: the attainable flop rate.
+//   Gemm/<n>x<m>                Eigen's GEMM of the shape of P H^T: the attainable flop rate;
+//   TickDiagnosed/<estimator>/<model>  Tick/ as inertiald pays it with the online diagnosis on:
+//                               the tick, the copy of the sample and its residual into the
+//                               diagnosis's ring (stream_diagnosis.hpp; its worker thread judges on
+//                               another core, excitation included) and the payload detector's check
+//                               (payload_event.hpp); counter diagnosis_dropped_fraction: samples the
+//                               worker had no room for (0: it kept up).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Cholesky>
@@ -25,6 +31,8 @@
 #include "examples/bundled_robots.hpp"
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/payload_event.hpp"
+#include "inertial/estimation/stream_diagnosis.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
@@ -102,6 +110,25 @@ void TickJoint(benchmark::State& state, EstimatorKind kind, const std::string& n
   state.counters["parameters"] = est.estimator().num_parameters();
   state.counters["measurements"] = model.num_dofs();
   state.counters["accepted_fraction"] = static_cast<double>(est.estimator().counters().accepted()) / k;
+}
+
+void TickDiagnosed(benchmark::State& state, EstimatorKind kind, const std::string& name) {
+  const RobotDynamics model = Robot(name);
+  std::vector<JointSample> stream = JointStream(model);
+  const OnlineEstimatorOptions options = Options(kind);
+  OnlineJointEstimator est(model, Eigen::VectorXd::Constant(model.num_parameters(), 0.1), options);
+  StreamDiagnosis diagnosis(model, StreamDiagnosisOptionsFor(model, options));
+  PayloadEventDetector payload(est);
+  long k = 0;
+  for (auto _ : state) {
+    JointSample& s = stream[k % kSamples];
+    s.t = 1e-3 * k++;
+    if (est.Update(s) == UpdateStatus::kAccepted) diagnosis.Observe(s, est.residual());
+    benchmark::DoNotOptimize(payload.Observe(est, s));
+  }
+  state.counters["parameters"] = est.estimator().num_parameters();
+  state.counters["accepted_fraction"] = static_cast<double>(est.estimator().counters().accepted()) / k;
+  state.counters["diagnosis_dropped_fraction"] = static_cast<double>(diagnosis.dropped()) / k;
 }
 
 void TickBody(benchmark::State& state, EstimatorKind kind) {
@@ -247,6 +274,11 @@ void Register() {
       const std::string m = model;
       benchmark::RegisterBenchmark((std::string("Tick/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { TickJoint(s, k, m); });
+    }
+    for (const char* model : {"leg3", "arm7", "chain28"}) {
+      const std::string m = model;
+      benchmark::RegisterBenchmark((std::string("TickDiagnosed/") + kname + "/" + m).c_str(),
+                                   [k, m](benchmark::State& s) { TickDiagnosed(s, k, m); });
     }
     for (const char* model : {"body", "leg3", "arm7", "chain7", "chain14", "chain28"}) {
       const std::string m = model;

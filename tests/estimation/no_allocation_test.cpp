@@ -22,10 +22,6 @@
 // tests report themselves skipped (tests/CMakeLists.txt builds this file without the guard there).
 #define INERTIAL_SKIP_UNDER_ASAN() \
   GTEST_SKIP() << "this test replaces malloc to count allocations, which AddressSanitizer owns; the normal build runs it"
-namespace {
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-}  // namespace
 #else
 #define INERTIAL_SKIP_UNDER_ASAN() (void)0
 #ifndef EIGEN_RUNTIME_NO_MALLOC
@@ -35,44 +31,9 @@ std::atomic<bool> g_counting{false};
 #error "this test needs assertions (Eigen's guard is an assertion)"
 #endif
 
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* __libc_calloc(std::size_t, std::size_t);
-extern "C" void* __libc_realloc(void*, std::size_t);
-extern "C" void __libc_free(void*);
+#endif
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-void Count() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
-
-extern "C" void* malloc(std::size_t n) {
-  Count();
-  return __libc_malloc(n);
-}
-extern "C" void* calloc(std::size_t n, std::size_t size) {
-  Count();
-  return __libc_calloc(n, size);
-}
-extern "C" void* realloc(void* p, std::size_t n) {
-  Count();
-  return __libc_realloc(p, n);
-}
-extern "C" void free(void* p) { __libc_free(p); }
-void* operator new(std::size_t n) {
-  Count();
-  void* p = __libc_malloc(n == 0 ? 1 : n);
-  if (p == nullptr) throw std::bad_alloc();
-  return p;
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { __libc_free(p); }
-void operator delete[](void* p) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
-#endif  // INERTIAL_TEST_UNDER_ASAN
+#include "allocation_counter.hpp"
 
 namespace inertial {
 namespace {

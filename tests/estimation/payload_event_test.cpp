@@ -20,53 +20,9 @@
 #include "inertial/model/fourier_trajectory.hpp"
 #include "test_support.hpp"
 
-// Allocation counting: malloc, calloc, realloc (Eigen's heap goes through them) and operator new,
-// counted while g_counting is set. AddressSanitizer owns malloc: under it the counting test skips.
-#if defined(__SANITIZE_ADDRESS__)
+#include "allocation_counter.hpp"
+#ifdef INERTIAL_ALLOCATIONS_NOT_COUNTED
 #define INERTIAL_NO_MALLOC_HOOK 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define INERTIAL_NO_MALLOC_HOOK 1
-#endif
-#endif
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-void Count() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
-
-#ifndef INERTIAL_NO_MALLOC_HOOK
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* __libc_calloc(std::size_t, std::size_t);
-extern "C" void* __libc_realloc(void*, std::size_t);
-extern "C" void __libc_free(void*);
-extern "C" void* malloc(std::size_t n) {
-  Count();
-  return __libc_malloc(n);
-}
-extern "C" void* calloc(std::size_t n, std::size_t size) {
-  Count();
-  return __libc_calloc(n, size);
-}
-extern "C" void* realloc(void* p, std::size_t n) {
-  Count();
-  return __libc_realloc(p, n);
-}
-extern "C" void free(void* p) { __libc_free(p); }
-void* operator new(std::size_t n) {
-  Count();
-  void* p = __libc_malloc(n == 0 ? 1 : n);
-  if (p == nullptr) throw std::bad_alloc();
-  return p;
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { __libc_free(p); }
-void operator delete[](void* p) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
 #endif
 
 namespace inertial {

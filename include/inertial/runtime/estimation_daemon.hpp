@@ -30,7 +30,7 @@
 #include "inertial/runtime/estimate_message.hpp"
 #include "inertial/runtime/sample_decoder.hpp"
 #include "inertial/runtime/sample_pipeline.hpp"
-#include "inertial/runtime/stream_diagnosis.hpp"
+#include "inertial/estimation/stream_diagnosis.hpp"
 #include "inertial/transport/can_bus.hpp"
 
 namespace lcm {

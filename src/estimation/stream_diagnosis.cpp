@@ -1,4 +1,4 @@
-#include "inertial/runtime/stream_diagnosis.hpp"
+#include "inertial/estimation/stream_diagnosis.hpp"
 
 #include <chrono>
 #include <stdexcept>
@@ -79,6 +79,8 @@ void StreamDiagnosis::Observe(const JointSample& s, const Eigen::VectorXd& resid
       s.tau.size() != e.q.size() || residual.size() != e.q.size()) {
     return;  // not a sample of this model: OnlineDiagnosis::Add would ignore it too
   }
+  e.reset = false;
+  e.sample = true;
   e.t = s.t;
   e.q = s.q;
   e.qd = s.qd;
@@ -95,10 +97,18 @@ void StreamDiagnosis::Drain() {
       std::lock_guard<std::mutex> lock(ring_mutex_);
       if (size_ == 0) return;
       std::swap(scratch_, ring_[head_]);  // sizes are equal: no allocation
+      if (reset_pending_) {
+        scratch_.reset = true;  // a reset the full ring could not hold, before this sample
+        reset_pending_ = false;
+      }
       head_ = (head_ + 1) % ring_.size();
       --size_;
     }
     std::lock_guard<std::mutex> lock(diagnosis_mutex_);
+    if (scratch_.reset) {
+      diagnosis_.Reset();
+      if (!scratch_.sample) continue;  // a reset marker only
+    }
     AddToDiagnosis(scratch_);
   }
 }
@@ -112,23 +122,16 @@ StreamJudgement StreamDiagnosis::Judge(const std::vector<OnlineBodyState>& bodie
 
 void StreamDiagnosis::Work() {
   while (!stop_) {
-    bool reset = false;
     std::optional<std::vector<OnlineBodyState>> request;
     Eigen::VectorXd x;
     {
       std::unique_lock<std::mutex> lock(result_mutex_);
       // Woken early for a request; otherwise every 5 ms (the producer never signals per sample).
-      wake_.wait_for(lock, std::chrono::milliseconds(5), [this] { return stop_ || request_ || reset_requested_; });
-      reset = reset_requested_;
-      reset_requested_ = false;
+      wake_.wait_for(lock, std::chrono::milliseconds(5), [this] { return stop_ || request_; });
       request.swap(request_);
       x.swap(request_x_);
     }
     Drain();
-    if (reset) {
-      std::lock_guard<std::mutex> lock(diagnosis_mutex_);
-      diagnosis_.Reset();
-    }
     if (request) {
       StreamJudgement r;
       {
@@ -147,11 +150,17 @@ void StreamDiagnosis::Reset() {
     diagnosis_.Reset();
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(result_mutex_);
-    reset_requested_ = true;
+  // In the ring, in order: the samples before it are judged with the old system, those after with
+  // the new. A full ring: the reset is applied before the next sample drained.
+  std::lock_guard<std::mutex> lock(ring_mutex_);
+  if (size_ == ring_.size()) {
+    reset_pending_ = true;
+    return;
   }
-  wake_.notify_one();
+  Entry& marker = ring_[(head_ + size_) % ring_.size()];
+  marker.reset = true;
+  marker.sample = false;
+  ++size_;
 }
 
 void StreamDiagnosis::RequestEvaluation(std::vector<OnlineBodyState> bodies, Eigen::VectorXd x) {

@@ -64,7 +64,8 @@ class StreamDiagnosis {
   /// One accepted sample and the estimator's residual before it updated on it. Never allocates,
   /// never blocks on the worker, never throws.
   void Observe(const JointSample& sample, const Eigen::VectorXd& residual) noexcept;
-  /// The system changed (the estimator's change detector fired): the statistics start again.
+  /// The system changed (the estimator's change detector fired): the statistics start again, in
+  /// order (the samples observed before are judged with the old system). Never allocates.
   void Reset();
   /// Threaded: asks the worker to judge the candidates with `bodies` (and the excitation at the
   /// estimator's parameters x) once it has added what was observed so far; the result appears in
@@ -74,11 +75,18 @@ class StreamDiagnosis {
   std::optional<StreamJudgement> Latest() const;
   /// Judges now, after every observed sample is added (the end of a replay or of the daemon).
   StreamJudgement EvaluateNow(const std::vector<OnlineBodyState>& bodies, const Eigen::VectorXd& x);
+  /// Entries in the ring not drained yet.
+  std::size_t pending() const {
+    std::lock_guard<std::mutex> lock(ring_mutex_);
+    return size_;
+  }
   /// Samples dropped because the ring was full.
   std::uint64_t dropped() const { return dropped_.load(); }
 
  private:
   struct Entry {
+    bool reset = false;   // the statistics start again before this entry
+    bool sample = true;   // false: a reset marker only
     double t = 0.0;
     Eigen::VectorXd q, qd, qdd, tau, residual;
   };
@@ -100,7 +108,7 @@ class StreamDiagnosis {
   std::condition_variable wake_;
   std::optional<std::vector<OnlineBodyState>> request_;  // under result_mutex_
   Eigen::VectorXd request_x_;                            // under result_mutex_
-  bool reset_requested_ = false;                          // under result_mutex_
+  bool reset_pending_ = false;                            // under ring_mutex_: a reset the full ring could not hold
   std::optional<StreamJudgement> latest_;                // under result_mutex_
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<bool> stop_{false};
