@@ -14,7 +14,7 @@
 #include "inertial/runtime/log_replay.hpp"
 #include "inertial/runtime/replay_config.hpp"
 #include "inertial/runtime/replay_summary.hpp"
-#include "inertial/runtime/stream_diagnosis.hpp"
+#include "inertial/estimation/stream_diagnosis.hpp"
 #include "inertial/transport/can_joint_assembler.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
