@@ -1,7 +1,7 @@
 // inertiald end to end over LCM's real UDP multicast, kept on this machine: the test runs in its
 // own network namespace (unshare -rn: lo up, 224.0.0.0/4 routed to lo, ttl=0). A second process
 // (lcm-logplayer) publishes a simulated leg's joint states, with malformed messages mixed in; the
-// real lcm-logger records the channel; inertiald is stopped with SIGTERM, killed with SIGKILL and
+// real lcm-logger records the channels (joint states, estimates, the online diagnosis); inertiald is stopped with SIGTERM, killed with SIGKILL and
 // stopped with SIGINT between three parts of the stream, restarting from its checkpoint each time.
 // Then: every run's counters, the restored sample counts, residuals near the noise in the
 // estimates it published, and the estimate it ends with equal to `inertial replay` of what
@@ -13,6 +13,7 @@
 #include <regex>
 
 #include "cli_support.hpp"
+#include "inertial/diagnosis_t.hpp"
 #include "inertial/estimate_t.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/formats/model_file.hpp"
@@ -95,7 +96,7 @@ cd ")" + dir.string() + R"("
 ")" + ip + R"(" link set lo up
 ")" + ip + R"(" route add 224.0.0.0/4 dev lo
 URL="udpm://239.255.76.67:7667?ttl=0"
-LCM_DEFAULT_URL="$URL" ")" + logger + R"(" -q -f -c INERTIAL_JOINT_STATE\|INERTIAL_ESTIMATE recorded.lcm & LOGGER=$!
+LCM_DEFAULT_URL="$URL" ")" + logger + R"(" -q -f -c INERTIAL_JOINT_STATE\|INERTIAL_ESTIMATE\|INERTIAL_DIAGNOSIS recorded.lcm & LOGGER=$!
 start() { ")" + daemon + R"(" --model ")" + leg + R"(" --checkpoint state.json --checkpoint-interval 0.5 --publish-rate 20 --noise-tau 0.3 --lcm-url "$URL" 2>> daemon$1.err & DAEMON=$!; ready $1; }
 # Ready once it says it listens (subscribed, receiver running): a fixed sleep lost the first message
 # of a part on a loaded machine (sanitizer build, other jobs); give up after 30 s.
@@ -149,6 +150,26 @@ sleep 0.5; kill -INT $LOGGER; wait $LOGGER
   }
   EXPECT_GT(estimates, 20);
   EXPECT_EQ(last.accepted, 801);  // the third run's own count
+  EXPECT_EQ(last.num_unexcited, static_cast<int>(last.unexcited.size()));
+  // The online diagnosis: published at each clean stop (SIGTERM, SIGINT; every 5 s while running),
+  // recorded by lcm-logger from the daemon's multicast, decoded here; and logged at exit.
+  lcm::LogFile again((dir / "recorded.lcm").string(), "r");
+  int diagnoses = 0;
+  for (const lcm::LogEvent* ev = again.readNextEvent(); ev != nullptr; ev = again.readNextEvent()) {
+    if (ev->channel != "INERTIAL_DIAGNOSIS") continue;
+    inertial::diagnosis_t d;
+    ASSERT_EQ(d.decode(ev->data, 0, ev->datalen), ev->datalen);
+    ++diagnoses;
+    EXPECT_GT(d.samples, 0);
+    EXPECT_GT(d.window, 0.0);
+    EXPECT_LE(d.window, 20.0);
+    EXPECT_GT(d.rms, 0.2);  // the model's prequential error on 0.3 N m of noise
+    EXPECT_EQ(d.num_suggestions, static_cast<int>(d.effect.size()));
+    EXPECT_EQ(d.effect.size(), d.explanation.size());
+  }
+  EXPECT_GE(diagnoses, 2);
+  EXPECT_TRUE(testing::Contains(err1, "Online diagnosis (prequential")) << err1;
+  EXPECT_TRUE(testing::Contains(err3, "Online diagnosis (prequential")) << err3;
   for (const auto& b : last.bodies) EXPECT_TRUE(b.physically_consistent) << b.name;
   for (double rms : last.residual_rms) {
     EXPECT_GT(rms, 0.2);
