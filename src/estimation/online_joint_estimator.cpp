@@ -99,6 +99,12 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   return status;
 }
 
+bool OnlineJointEstimator::Restore(const EstimatorState& state, std::string* why) {
+  if (!estimator_->Restore(state, why)) return false;
+  estimator_->Coefficients(w_);
+  return true;
+}
+
 InertialParams OnlineJointEstimator::Body(int e) const {
   if (kind_ == EstimatorKind::kLinearRls) {
     return InertialParams::FromVector(w_.segment<10>(10 * model_.bodies().at(e).tree_body));

@@ -294,7 +294,7 @@ void EstimationDaemon::RestoreCheckpoint() {
   if (!state) {
     // already reported
   } else if (description == CheckpointDescription(*pipeline_)) {
-    if (!pipeline_->estimator().Restore(*state, &why)) {
+    if (!(robot_ ? robot_->Restore(*state, &why) : pipeline_->estimator().Restore(*state, &why))) {
       unusable("cannot be restored: " + why);
     } else {
       restored_ = true;
@@ -307,7 +307,7 @@ void EstimationDaemon::RestoreCheckpoint() {
     const std::optional<ExtendedState> extended = CheckpointWithFewerEffects(description, *state, *robot_, &why);
     if (!extended) {
       unusable("is a checkpoint of another model or estimator: " + why + " (checkpoint of: " + description + ")");
-    } else if (!pipeline_->estimator().Restore(extended->state, &why)) {
+    } else if (!(robot_ ? robot_->Restore(extended->state, &why) : pipeline_->estimator().Restore(extended->state, &why))) {
       unusable("cannot be restored: " + why);
     } else {
       restored_ = true;

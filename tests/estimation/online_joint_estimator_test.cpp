@@ -174,3 +174,39 @@ TEST(OnlineJointEstimator, BadSamplesAreRejectedAndCounted) {
 
 }  // namespace
 }  // namespace inertial
+
+namespace inertial {
+namespace {
+
+// A restored state is the adapter's at once: coefficients(), Body() and the next sample's prediction
+// are those of the restored parameters (w(x) recomputed here by RobotDynamics::Coefficients, or x
+// itself for linear RLS), not the priors the adapter started from.
+TEST(OnlineJointEstimator, RestoreTakesTheCoefficientsAtOnce) {
+  const RobotDynamics model = PriorLeg("viscous");
+  const Eigen::VectorXd x_true = testing::TrueParameters(model, {0.5}, 11, 0.2);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, 0.0, 4.0, 11, 100);
+  for (EstimatorKind kind : {EstimatorKind::kGaussNewton, EstimatorKind::kGradient, EstimatorKind::kLinearRls}) {
+    OnlineEstimatorOptions o;
+    o.kind = kind;
+    OnlineJointEstimator learned(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
+    JointSample s;
+    for (int i = 0; i + 1 < logs.train.size(); ++i) {
+      CopySample(logs.train, i, &s);
+      learned.Update(s);
+    }
+    OnlineJointEstimator restored(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
+    std::string why;
+    ASSERT_TRUE(restored.Restore(learned.estimator().State(), &why)) << why;
+    const Eigen::VectorXd& x = learned.estimator().parameters();
+    const Eigen::VectorXd w = kind == EstimatorKind::kLinearRls ? x : model.Coefficients(x);
+    EXPECT_LT((restored.coefficients() - w).norm(), 1e-12 * w.norm()) << ToString(kind);
+    EXPECT_EQ(restored.Body(2).vector(), learned.Body(2).vector()) << ToString(kind);
+    CopySample(logs.train, logs.train.size() - 1, &s);
+    restored.Update(s);
+    const Eigen::VectorXd expected = model.InverseDynamicsFromCoefficients(w, s.q, s.qd, s.qdd);
+    EXPECT_LT((restored.predicted() - expected).norm(), 1e-9 * expected.norm()) << ToString(kind);
+  }
+}
+
+}  // namespace
+}  // namespace inertial

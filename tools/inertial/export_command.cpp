@@ -55,7 +55,7 @@ int RunExportCommand(const ExportCommand& c) {
     return kUsage;
   }
   std::string why;
-  if (!estimator.estimator().Restore(state, &why)) {
+  if (!estimator.Restore(state, &why)) {
     std::cerr << "Error: " << c.checkpoint << ": cannot be restored: " << why << "\n";
     return kIoError;
   }

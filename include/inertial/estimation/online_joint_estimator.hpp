@@ -61,6 +61,10 @@ class OnlineJointEstimator {
   OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineEstimatorOptions& options = {});
 
   UpdateStatus Update(const JointSample& sample);
+  /// Restores a saved state (RecursiveEstimator::Restore) and the coefficients w(x) this adapter
+  /// keeps for coefficients(), Body() (linear RLS) and the next prediction. Returns false (and *why)
+  /// without changing anything when the state does not fit.
+  bool Restore(const EstimatorState& state, std::string* why);
 
   const RobotDynamics& model() const { return model_; }
   const RecursiveEstimator& estimator() const { return *estimator_; }
