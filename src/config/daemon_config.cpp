@@ -69,7 +69,8 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
                                            "publish_rate_hz",  "residual_window_s", "checkpoint",
                                            "checkpoint_interval_s", "queue_capacity", "estimator",
                                            "noise_tau",        "log_level",        "format",
-                                           "tuning"};
+                                           "tuning",           "diagnosis_channel", "diagnosis_period_s",
+                                           "payload_channel"};
   for (const auto& [key, value] : c.items()) {
     if (kKeys.count(key) == 0) throw std::invalid_argument("config: unknown key \"" + key + "\"");
   }
@@ -89,7 +90,10 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   text("channel", &o->input_channel);
   text("estimate_channel", &o->estimate_channel);
   text("residual_channel", &o->residual_channel);
+  text("diagnosis_channel", &o->diagnosis_channel);
+  text("payload_channel", &o->payload_channel);
   text("checkpoint", &o->checkpoint_path);
+  positive("diagnosis_period_s", &o->diagnosis_period_s);
   positive("publish_rate_hz", &o->publish_rate_hz);
   positive("residual_window_s", &o->residual_window_s);
   positive("checkpoint_interval_s", &o->checkpoint_interval_s);

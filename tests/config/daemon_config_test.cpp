@@ -47,6 +47,23 @@ TEST(DaemonConfig, TuningReachesTheEstimatorsAndAbsentKeysKeepTheDefaults) {
   EXPECT_EQ(partial.estimator.measurement_sigma, defaults.measurement_sigma);
 }
 
+// The online diagnosis's and the payload events' channels and period: defaults on, "" turns them off.
+TEST(DaemonConfig, DiagnosisAndPayloadChannels) {
+  DaemonOptions o;
+  EXPECT_EQ(o.diagnosis_channel, "INERTIAL_DIAGNOSIS");
+  EXPECT_EQ(o.payload_channel, "INERTIAL_PAYLOAD_EVENT");
+  EXPECT_EQ(o.diagnosis_period_s, 5.0);
+  ApplyDaemonConfig(nlohmann::json::parse(R"({"diagnosis_channel": "LEG_DIAGNOSIS", "diagnosis_period_s": 2.5,
+      "payload_channel": ""})"),
+                    &o);
+  EXPECT_EQ(o.diagnosis_channel, "LEG_DIAGNOSIS");
+  EXPECT_EQ(o.diagnosis_period_s, 2.5);
+  EXPECT_EQ(o.payload_channel, "");
+  EXPECT_NE(ErrorOf(R"({"diagnosis_period_s": 0})").find("\"diagnosis_period_s\" must be a positive number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(R"({"diagnosis_channel": 3})").find("\"diagnosis_channel\" must be a string"), std::string::npos);
+}
+
 TEST(DaemonConfig, OutOfRangeTuningIsRefusedNamingTheKeyAndItsRange) {
   EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 0}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 1.5}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");

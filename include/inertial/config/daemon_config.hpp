@@ -44,6 +44,8 @@ struct DaemonOptions {
 };
 
 /// From the --config JSON: {"lcm_url", "channel", "estimate_channel", "residual_channel",
+/// "diagnosis_channel", "diagnosis_period_s", "payload_channel" ("" turns the diagnosis or the
+/// payload events off),
 /// "publish_rate_hz", "residual_window_s", "checkpoint", "checkpoint_interval_s", "queue_capacity",
 /// "estimator", "noise_tau", "log_level", "format": {...joint_message.hpp...}, "tuning": {...}};
 /// absent keys keep *options' values. "noise_tau" is the torque noise standard deviation the
