@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Core>
 
 #include "inertial/estimation/departure_margins.hpp"
 #include "inertial/estimation/explained_error.hpp"
@@ -16,9 +17,15 @@
 namespace inertial {
 namespace {
 
-// The widest per-joint model's coefficients are refreshed every this many samples: they only
-// whiten the residual whose autocorrelation time is measured, which changes slowly.
-constexpr long long kWidestRefresh = 32;
+// The widest model's least squares (Evaluate) is given about this many multiply-adds for its normal
+// equations, so that the samples it takes from the ring shrink for large robots (chain28: 532
+// columns) and a judgement takes well under a second; at least kMinWidestSamples samples.
+constexpr double kWidestBudget = 2e8;
+constexpr int kMinWidestSamples = 64;
+// Its ridge, relative to each column's own information (Jacobi-scaled): only keeps columns the ring
+// does not excite (a joint at rest) at zero; an in-sample fit of thousands of rows to at most a few
+// hundred columns whitens the residual, it is not used to predict.
+constexpr double kWidestRidge = 1e-6;
 // Relative ridge on the normal equations of the small fits: keeps them solvable when a feature has
 // not been excited yet (a joint at rest has qd = 0) without biasing a fitted coefficient (1e-9 of
 // its own information).
@@ -188,20 +195,18 @@ OnlineDiagnosis::OnlineDiagnosis(const RobotDynamics& model, const OnlineDiagnos
     }
   }
   gram_.assign(static_cast<size_t>(dofs_), Gram::Zero());
-  widest_ = Eigen::MatrixXd::Zero(kNumFeatures, dofs_);
   block_model_sse_ = Eigen::MatrixXd::Zero(options.blocks, dofs_);
   block_tau_ss_ = Eigen::MatrixXd::Zero(options.blocks, dofs_);
   block_candidate_sse_ = Eigen::MatrixXd::Zero(options.blocks, std::max<int>(1, num_candidates()));
   block_count_ = Eigen::VectorXi::Zero(options.blocks);
   block_first_t_ = Eigen::VectorXd::Zero(options.blocks);
   block_last_t_ = Eigen::VectorXd::Zero(options.blocks);
-  ring_ = Eigen::MatrixXd::Zero(options.autocorrelation_samples, dofs_);
+  ring_ = Eigen::MatrixXd::Zero(options.autocorrelation_samples, 4 * dofs_);
   phi_ = Eigen::VectorXd::Zero(kNumFeatures + 1);
 }
 
 void OnlineDiagnosis::Reset() noexcept {
   for (Gram& G : gram_) G.setZero();
-  widest_.setZero();
   block_model_sse_.setZero();
   block_tau_ss_.setZero();
   block_candidate_sse_.setZero();
@@ -269,7 +274,10 @@ void OnlineDiagnosis::Add(double t, const Eigen::VectorXd& q, const Eigen::Vecto
     if (!burn_in) {
       block_model_sse_(slot, j) += r * r;
       block_tau_ss_(slot, j) += tau[j] * tau[j];
-      ring_(ring_next_, j) = r - phi_.head<kNumFeatures>().dot(widest_.col(j));
+      ring_(ring_next_, j) = r;  // [residual, q, qd, qdd] per DOF: the widest model is fitted in Evaluate
+      ring_(ring_next_, dofs_ + j) = q[j];
+      ring_(ring_next_, 2 * dofs_ + j) = qd[j];
+      ring_(ring_next_, 3 * dofs_ + j) = qdd[j];
     }
     for (; c < candidates_.size() && candidates_[c].dof == j; ++c) {
       if (burn_in) continue;
@@ -293,16 +301,92 @@ void OnlineDiagnosis::Add(double t, const Eigen::VectorXd& q, const Eigen::Vecto
     ring_size_ = std::min<int>(ring_size_ + 1, static_cast<int>(ring_.rows()));
   }
   ++samples_seen_;
-  if (samples_seen_ % kWidestRefresh == 0) {
-    for (int j = 0; j < dofs_; ++j) {
-      const Gram& G = gram_[static_cast<size_t>(j)];
-      Eigen::Matrix<double, kNumFeatures, kNumFeatures> A = G.topLeftCorner<kNumFeatures, kNumFeatures>();
-      A.diagonal() = A.diagonal() * (1.0 + 1e-6) + Eigen::Matrix<double, kNumFeatures, 1>::Constant(1e-12);
-      widest_.col(j) = A.ldlt().solve(G.topRightCorner<kNumFeatures, 1>());
-    }
-  }
   has_time_ = true;
   last_t_ = t;
+}
+
+OnlineDiagnosis::RingRegression OnlineDiagnosis::BuildRingRegression() const {
+  // The last samples of the ring as one regression of the estimator's residual on the links' and
+  // the model's features (RobotDynamics::Features) and every candidate's: rows sample by sample,
+  // oldest first; as many samples as kWidestBudget allows (large robots take fewer).
+  RingRegression g;
+  g.links = model_.num_features();
+  int C = 0;
+  for (const Candidate& k : candidates_) {
+    g.first_column.push_back(g.links + C);
+    C += k.num_features;
+  }
+  const int P = g.links + C;
+  const double per_sample = static_cast<double>(dofs_) * P * P;
+  g.samples = std::min(ring_size_, std::max(kMinWidestSamples, static_cast<int>(kWidestBudget / per_sample)));
+  if (g.samples < 4) {
+    g.samples = 0;
+    return g;
+  }
+  const int L = g.samples, R = static_cast<int>(ring_.rows());
+  const int newest = (ring_next_ - 1 + R) % R;
+  g.X = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(L) * dofs_, P);
+  g.y.resize(static_cast<Eigen::Index>(L) * dofs_);
+  TreeWorkspace workspace = model_.MakeWorkspace();
+  Eigen::MatrixXd A(dofs_, g.links);
+  const double vs = options_.coulomb_velocity_scale;
+  for (int i = 0; i < L; ++i) {
+    const int row = (newest - (L - 1 - i) + R) % R;
+    const Eigen::VectorXd q = ring_.row(row).segment(dofs_, dofs_).transpose();
+    const Eigen::VectorXd qd = ring_.row(row).segment(2 * dofs_, dofs_).transpose();
+    const Eigen::VectorXd qdd = ring_.row(row).segment(3 * dofs_, dofs_).transpose();
+    model_.Features(q, qd, qdd, &workspace, A);
+    const Eigen::Index r0 = static_cast<Eigen::Index>(i) * dofs_;
+    g.X.block(r0, 0, dofs_, g.links) = A;
+    g.y.segment(r0, dofs_) = ring_.row(row).head(dofs_).transpose();
+    for (size_t c = 0; c < candidates_.size(); ++c) {
+      const Candidate& k = candidates_[c];
+      const double s = std::tanh(qd[k.dof] / vs);
+      const double phi[kNumFeatures] = {qd[k.dof], s, std::max(s, 0.0), std::min(s, 0.0), 1.0, qdd[k.dof], q[k.dof]};
+      for (int a = 0; a < k.num_features; ++a) g.X(r0 + k.dof, g.first_column[c] + a) = phi[k.features[a]];
+    }
+  }
+  return g;
+}
+
+namespace {
+
+// Least squares on the columns `columns` of the normal equations (G, b), with a ridge of
+// kWidestRidge in the Jacobi-scaled normal equations (S + kWidestRidge diag(S)).
+Eigen::VectorXd SolveOnColumns(const Eigen::MatrixXd& G, const Eigen::VectorXd& b, const std::vector<int>& columns) {
+  const int n = static_cast<int>(columns.size());
+  Eigen::MatrixXd S(n, n);
+  Eigen::VectorXd r(n);
+  double scale = std::numeric_limits<double>::min();
+  for (int i = 0; i < n; ++i) scale = std::max(scale, G(columns[i], columns[i]));
+  for (int i = 0; i < n; ++i) {
+    r[i] = b[columns[i]];
+    for (int k = 0; k < n; ++k) S(i, k) = G(columns[i], columns[k]);
+    S(i, i) += kWidestRidge * S(i, i) + 1e-12 * scale;
+  }
+  return S.ldlt().solve(r);
+}
+
+}  // namespace
+
+Eigen::VectorXd OnlineDiagnosis::WidestAutocorrelation(const RingRegression& g) const {
+  // The noise's correlation is measured on what the widest model leaves (candidate_evidence.hpp):
+  // the links refitted with every candidate, as the batch diagnosis refits them. A missing effect
+  // the links imitate leaves a smooth residual (an offset the links' centres of mass absorb);
+  // refitted with the links, it is gone and the samples count for what they are worth.
+  Eigen::VectorXd tau = Eigen::VectorXd::Ones(dofs_);
+  if (g.samples < 4) return tau;
+  std::vector<int> all(static_cast<size_t>(g.X.cols()));
+  for (int i = 0; i < static_cast<int>(all.size()); ++i) all[static_cast<size_t>(i)] = i;
+  const Eigen::VectorXd beta = SolveOnColumns(g.X.transpose() * g.X, g.X.transpose() * g.y, all);
+  const Eigen::VectorXd e = g.y - g.X * beta;
+  if (!e.allFinite()) return tau;
+  Eigen::VectorXd series(g.samples);
+  for (int j = 0; j < dofs_; ++j) {
+    for (int i = 0; i < g.samples; ++i) series[i] = e[static_cast<Eigen::Index>(i) * dofs_ + j];
+    tau[j] = IntegratedAutocorrelationTime(series);
+  }
+  return tau;
 }
 
 OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyState>& bodies) const {
@@ -319,16 +403,8 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
   const Eigen::VectorXd sse0 = block_model_sse_.colwise().sum().transpose();
   const Eigen::VectorXd tau_ss = block_tau_ss_.colwise().sum().transpose();
   out.model = ErrorsFromSums(sse0, tau_ss, std::max(N, 1));
-  out.autocorrelation = Eigen::VectorXd::Ones(dofs_);
-  if (ring_size_ > 0) {
-    Eigen::VectorXd series(ring_size_);
-    const int R = static_cast<int>(ring_.rows());
-    const int start = ring_size_ < R ? 0 : ring_next_;
-    for (int j = 0; j < dofs_; ++j) {
-      for (int i = 0; i < ring_size_; ++i) series[i] = ring_((start + i) % R, j);
-      out.autocorrelation[j] = IntegratedAutocorrelationTime(series);
-    }
-  }
+  const RingRegression ring = BuildRingRegression();
+  out.autocorrelation = WidestAutocorrelation(ring);
   // The links' plausibility against their URDF, margins from the estimator's covariance.
   const double tolerance = options_.rules.prior_tolerance;
   std::vector<BodyPlausibility> plausibility;
@@ -447,35 +523,37 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
   // Alternatives: a later suggestion on the top one's joint that, fitted together with it on that
   // joint's residual, removes less than min_explained more (in the same channel-averaged units as
   // `explained`) explains the same residual: shown as its alternative, not suggested.
-  if (!out.candidates.empty() && out.candidates[0].evidence.suggested() && !out.candidates[0].joint.empty()) {
-    const OnlineCandidate& top = out.candidates[0];
-    auto spec_of = [&](const std::string& name) -> const Candidate* {
-      for (const Candidate& k : candidates_) {
-        if (k.name == name) return &k;
-      }
-      return nullptr;
-    };
-    const Candidate* t = spec_of(top.name);
-    for (size_t i = 1; t != nullptr && i < out.candidates.size(); ++i) {
+  auto index_of = [&](const std::string& name) -> int {
+    for (size_t k = 0; k < candidates_.size(); ++k) {
+      if (candidates_[k].name == name) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  const int t = out.candidates.empty() || !out.candidates[0].evidence.suggested() ? -1 : index_of(out.candidates[0].name);
+  if (t >= 0) {
+    const Candidate& top = candidates_[static_cast<size_t>(t)];
+    for (size_t i = 1; i < out.candidates.size(); ++i) {
       OnlineCandidate& oc = out.candidates[i];
-      const Candidate* k = spec_of(oc.name);
-      if (!oc.evidence.suggested() || k == nullptr || k->dof != t->dof) continue;
-      const Gram& G = gram_[static_cast<size_t>(t->dof)];
+      const int c = index_of(oc.name);
+      if (!oc.evidence.suggested() || c < 0) continue;
+      const Candidate& k = candidates_[static_cast<size_t>(c)];
+      if (k.dof != top.dof) continue;
+      const Gram& G = gram_[static_cast<size_t>(top.dof)];
       const bool free2[2] = {false, false};
       double b[2];
-      const double sse_top = FitFromGram<2>(G, t->features, t->num_features, free2, b);
+      const double sse_top = FitFromGram<2>(G, top.features, top.num_features, free2, b);
       int both[4];
       int m = 0;
-      for (int a = 0; a < t->num_features; ++a) both[m++] = t->features[a];
-      for (int a = 0; a < k->num_features; ++a) {
-        if (std::find(both, both + m, k->features[a]) == both + m) both[m++] = k->features[a];
+      for (int a = 0; a < top.num_features; ++a) both[m++] = top.features[a];
+      for (int a = 0; a < k.num_features; ++a) {
+        if (std::find(both, both + m, k.features[a]) == both + m) both[m++] = k.features[a];
       }
       const bool free4[4] = {false, false, false, false};
       double b4[4];
       const int f4[4] = {both[0], both[1 % m], both[2 % m], both[3 % m]};
       const double sse_both = FitFromGram<4>(G, f4, m, free4, b4);
       const double added = sse_top > 0.0 ? (1.0 - sse_both / sse_top) / dofs_ : 0.0;
-      if (added < options_.rules.min_explained) oc.alternative_to = top.name;
+      if (added < options_.rules.min_explained) oc.alternative_to = out.candidates[0].name;
     }
   }
   std::stable_sort(out.candidates.begin(), out.candidates.end(), before);

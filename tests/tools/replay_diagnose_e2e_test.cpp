@@ -1,5 +1,5 @@
 // `inertial replay --diagnose --json` end to end: the bundled leg simulated by `inertial simulate`
-// with a hidden effect its URDF lacks (links within a CAD model's error, --perturb 0.05; 0.05 N m
+// with a hidden effect its URDF lacks (Coulomb, viscous, armature, a payload; clean) (links within a CAD model's error, --perturb 0.05; 0.05 N m
 // torque noise, the noise the replay is told), written as an lcm-logger log or a candump log of its
 // motors, replayed through the online estimator with the online diagnosis. The top suggestion must
 // be the hidden effect on the right joint (or link), and on a clean stream nothing is suggested.

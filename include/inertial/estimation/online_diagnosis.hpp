@@ -25,18 +25,25 @@
 ///
 /// Links are not refitted per candidate (that would take one estimator per candidate): what the
 /// estimator's links absorb of a missing effect is not credited to it, so the judgement is
-/// conservative, and the plausibility route (3) applies to payloads only. A payload: a link whose
+/// conservative. (A blocked refit of the links with each candidate over the last samples was tried:
+/// it found the offsets the links absorb, but its ridge on the poorly excited link directions also
+/// credited a constant column with what those directions leave, a false offset on a clean,
+/// quantized CAN stream; see the README.)
+/// A payload: a link whose
 /// estimate departs from its URDF beyond the tolerance (plausibility.hpp, margins from the
 /// estimator's covariance, departure_margins.hpp) by a physically consistent body added to it is
 /// `payload@link`: held at its URDF with that payload, the link is believable again (it restores
-/// the link's excess) and the data are explained as well.
+/// the link's excess) and the data are explained as well. Route 3 (plausibility) applies to payloads
+/// only: a joint effect's fit does not move the estimator's links.
 ///
 /// Noise correlation: the autocorrelation time of each joint's noise (candidate_evidence.hpp) is
-/// measured on the prequential residual of the widest per-joint model (every joint feature above),
-/// over the last autocorrelation_samples samples.
+/// measured, as the batch diagnosis measures it, on the residual of the widest model: the links'
+/// and the model's features and every candidate's, fitted by least squares (at Evaluate) to the
+/// estimator's residual over the last autocorrelation_samples samples (fewer for large robots).
 ///
 /// Cost: Add() is O(F^2) per DOF (F = 7 features, an 8 x 8 Gram matrix per joint), no allocation,
-/// no exception; Evaluate() allocates and runs every few seconds, off the estimator's thread.
+/// no exception; Evaluate() allocates and runs every few seconds, off the estimator's thread: the
+/// widest model's least squares is held to about 2e8 multiply-adds.
 /// Units: SI (N m, rad, s); time t in seconds, increasing.
 #pragma once
 
@@ -58,8 +65,9 @@ struct OnlineDiagnosisOptions {
   int blocks = 10;
   /// Memory of the candidates' coefficient fits [s] (exponential forgetting).
   double fit_memory_s = 10.0;
-  /// Residual samples per joint kept for the noise's autocorrelation time.
-  int autocorrelation_samples = 2048;
+  /// The last samples kept (allocated once) for the noise's autocorrelation time (fewer are used
+  /// for large robots, see Evaluate's cost).
+  int autocorrelation_samples = 4096;
   /// v_s of the coulomb and asymmetric candidates [rad/s] (joint_effect.hpp's default).
   double coulomb_velocity_scale = 0.01;
   /// Joint effect kinds tested on every DOF (viscous, coulomb, asymmetric, offset, armature, spring).
@@ -108,7 +116,7 @@ struct OnlineDiagnosisResult {
   int samples = 0;                  ///< judged samples in the window
   double window_seconds = 0.0;      ///< time the judged samples span
   TorqueErrors model;               ///< the model's prequential errors over the window
-  Eigen::VectorXd autocorrelation;  ///< per DOF, of the widest per-joint model's residual
+  Eigen::VectorXd autocorrelation;  ///< per DOF, of the widest model's residual
   double implausibility = 0.0;      ///< B of the links (candidate_evidence.hpp)
   std::vector<std::string> bent_links;
   std::vector<std::string> notes;   ///< why nothing was judged, etc.
@@ -153,22 +161,31 @@ class OnlineDiagnosis {
     std::string name, item, replaces;
   };
   void Roll(double t);
+  // The ring's last samples as one regression (the widest model, for the noise's correlation): rows
+  // sample by sample (dofs each), columns the model's features (links and effects: `links` of
+  // them) then every candidate's.
+  struct RingRegression {
+    int samples = 0, links = 0;
+    std::vector<int> first_column;  // per candidate
+    Eigen::MatrixXd X;
+    Eigen::VectorXd y;              // the estimator's residual
+  };
+  RingRegression BuildRingRegression() const;
+  Eigen::VectorXd WidestAutocorrelation(const RingRegression& g) const;
 
   RobotDynamics model_;
   OnlineDiagnosisOptions options_;
   std::vector<Candidate> candidates_;
   int dofs_ = 0;
   double block_s_ = 0.0;
-  // Per DOF: the forgotten Gram matrix and the widest model's coefficients (refreshed every
-  // kWidestRefresh samples).
+  // Per DOF: the forgotten Gram matrix of the joint's features and residual.
   std::vector<Gram, Eigen::aligned_allocator<Gram>> gram_;
-  Eigen::MatrixXd widest_;  // kNumFeatures x dofs
   // Blocks: [block][dof] squared residual of the model, squared torque; [block][candidate].
   Eigen::MatrixXd block_model_sse_, block_tau_ss_, block_candidate_sse_;
   Eigen::VectorXi block_count_;
   Eigen::VectorXd block_first_t_, block_last_t_;
   long long current_block_ = -1;  // absolute index of the block being filled
-  // Ring of the widest model's residuals: [sample][dof].
+  // Ring of the last samples: [sample][residual, q, qd, qdd per DOF].
   Eigen::MatrixXd ring_;
   int ring_next_ = 0, ring_size_ = 0;
   long long samples_seen_ = 0;
