@@ -19,20 +19,6 @@ namespace {
 // mci order (parameter_layout.hpp): mass, COM, inertia about the COM.
 constexpr const char* kBodyQuantityNames[10] = {"m", "cx", "cy", "cz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
 
-// The names of RobotDynamics::EffectValues(k) for an effect of `kind`.
-std::vector<std::string> EffectValueNames(EffectKind kind) {
-  switch (kind) {
-    case EffectKind::kViscous: return {"b"};
-    case EffectKind::kCoulomb: return {"bc"};
-    case EffectKind::kOffset: return {"c"};
-    case EffectKind::kArmature: return {"Ia"};
-    case EffectKind::kSpring: return {"k", "q0"};
-    case EffectKind::kAsymmetric: return {"bp", "bn"};
-    case EffectKind::kSigmoid: return {"p1"};
-    default: return {};
-  }
-}
-
 std::string Number(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3g", v);

@@ -90,6 +90,19 @@ std::string EffectItem(const EffectSpec& spec) {
   return item;
 }
 
+std::vector<std::string> EffectValueNames(EffectKind kind) {
+  switch (kind) {
+    case EffectKind::kViscous: return {"b"};
+    case EffectKind::kCoulomb: return {"bc"};
+    case EffectKind::kOffset: return {"c"};
+    case EffectKind::kArmature: return {"Ia"};
+    case EffectKind::kSpring: return {"k", "q0"};
+    case EffectKind::kAsymmetric: return {"bp", "bn"};
+    case EffectKind::kSigmoid: return {"p1"};
+    default: return {};
+  }
+}
+
 double SigmoidFriction(double qd, double steepness, double shift) {
   // S(x) = (1 + tanh(x / 2)) / 2: no exponential to overflow.
   return 0.5 * (std::tanh(0.5 * steepness * (qd + shift)) - std::tanh(0.5 * steepness * shift));

@@ -45,19 +45,6 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& M) {
 
 }  // namespace
 
-std::vector<std::string> EffectValueNames(EffectKind kind) {
-  switch (kind) {
-    case EffectKind::kViscous: return {"b"};
-    case EffectKind::kCoulomb: return {"bc"};
-    case EffectKind::kOffset: return {"c"};
-    case EffectKind::kArmature: return {"Ia"};
-    case EffectKind::kSpring: return {"k", "q0"};
-    case EffectKind::kAsymmetric: return {"bp", "bn"};
-    case EffectKind::kSigmoid: return {"p1"};
-    default: return {};
-  }
-}
-
 // The unit of each value of an effect on a revolute joint (prismatic: N, m, kg).
 std::vector<std::string> EffectValueUnits(EffectKind kind) {
   switch (kind) {

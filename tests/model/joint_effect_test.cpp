@@ -62,6 +62,9 @@ TEST(EffectList, KindNamesAndValueCounts) {
   EXPECT_EQ(NumEffectValues(EffectKind::kAsymmetric), 2);
   EXPECT_EQ(NumEffectValues(EffectKind::kCoulomb), 1);
   EXPECT_EQ(NumEffectValues(EffectKind::kPayload), 0);
+  for (EffectKind kind : AllEffectKinds()) {
+    EXPECT_EQ(static_cast<int>(EffectValueNames(kind).size()), NumEffectValues(kind)) << ToString(kind);
+  }
 }
 
 // The torques from the catalog's formulas, S(x) = 1 / (1 + e^-x).

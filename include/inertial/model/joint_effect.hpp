@@ -84,6 +84,10 @@ struct ModelEffect {
 /// bodies).
 int NumEffectValues(EffectKind kind);
 
+/// The names of those coefficients, in that order: {"b"}, {"bc"}, {"c"}, {"Ia"}, {"k", "q0"},
+/// {"bp", "bn"}, {"p1"}; empty for bodies.
+std::vector<std::string> EffectValueNames(EffectKind kind);
+
 /// The sigmoid friction feature at unit amplitude: S(p2 (qd + p3)) - S(p2 p3), S(x) = 1 / (1 + e^-x).
 double SigmoidFriction(double qd, double steepness, double shift);
 

@@ -65,8 +65,8 @@ nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, 
 nlohmann::json EffectsJson(const RobotDynamics& model, const Eigen::VectorXd& x);
 /// {"<joint>": value, ..., "total": total}.
 nlohmann::json PerJointJson(const RobotDynamics& model, const Eigen::VectorXd& per_joint, double total);
-/// The names and units of effect values ("b" in "N m s/rad", ...) for revolute joints.
-std::vector<std::string> EffectValueNames(EffectKind kind);
+/// The units of effect values (EffectValueNames, joint_effect.hpp: "b" in "N m s/rad", ...) for
+/// revolute joints.
 std::vector<std::string> EffectValueUnits(EffectKind kind);
 
 }  // namespace inertial
