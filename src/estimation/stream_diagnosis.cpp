@@ -57,16 +57,26 @@ void StreamDiagnosis::AddToDiagnosis(const Entry& e) {
   }
 }
 
+bool StreamDiagnosis::Fill(const JointSample& s, const Eigen::VectorXd& residual, Entry* e) {
+  const Eigen::Index n = e->q.size();
+  if (s.q.size() != n || s.qd.size() != n || s.qdd.size() != n || s.tau.size() != n || residual.size() != n) {
+    return false;  // not a sample of this model: OnlineDiagnosis::Add would ignore it too
+  }
+  e->reset = false;
+  e->sample = true;
+  e->t = s.t;
+  e->q = s.q;  // sizes equal: no allocation
+  e->qd = s.qd;
+  e->qdd = s.qdd;
+  e->tau = s.tau;
+  e->residual = residual;
+  return true;
+}
+
 void StreamDiagnosis::Observe(const JointSample& s, const Eigen::VectorXd& residual) noexcept {
   if (!options_.threaded) {
     std::lock_guard<std::mutex> lock(diagnosis_mutex_);
-    scratch_.t = s.t;
-    scratch_.q = s.q;
-    scratch_.qd = s.qd;
-    scratch_.qdd = s.qdd;
-    scratch_.tau = s.tau;
-    scratch_.residual = residual;
-    AddToDiagnosis(scratch_);
+    if (Fill(s, residual, &scratch_)) AddToDiagnosis(scratch_);
     return;
   }
   std::lock_guard<std::mutex> lock(ring_mutex_);
@@ -74,20 +84,7 @@ void StreamDiagnosis::Observe(const JointSample& s, const Eigen::VectorXd& resid
     dropped_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  Entry& e = ring_[(head_ + size_) % ring_.size()];
-  if (s.q.size() != e.q.size() || s.qd.size() != e.q.size() || s.qdd.size() != e.q.size() ||
-      s.tau.size() != e.q.size() || residual.size() != e.q.size()) {
-    return;  // not a sample of this model: OnlineDiagnosis::Add would ignore it too
-  }
-  e.reset = false;
-  e.sample = true;
-  e.t = s.t;
-  e.q = s.q;
-  e.qd = s.qd;
-  e.qdd = s.qdd;
-  e.tau = s.tau;
-  e.residual = residual;
-  ++size_;
+  if (Fill(s, residual, &ring_[(head_ + size_) % ring_.size()])) ++size_;
 }
 
 void StreamDiagnosis::Drain() {

@@ -29,6 +29,13 @@
 namespace inertial {
 namespace {
 
+// Every row of a joint log as a sample.
+std::vector<JointSample> SamplesOf(const JointSamples& log) {
+  std::vector<JointSample> out(static_cast<size_t>(log.size()));
+  for (int i = 0; i < log.size(); ++i) CopySample(log, i, &out[static_cast<size_t>(i)]);
+  return out;
+}
+
 namespace fs = std::filesystem;
 
 struct Stream {
@@ -44,11 +51,7 @@ const Stream& LegStream() {
     const RobotDynamics model = MakeRobotDynamics(out.robot, {});
     const Eigen::VectorXd x = testing::TrueParameters(model, {0.0}, 4);
     const JointSamples log = testing::SimulateLogs(model, x, 0.3, 10.0, 9, 200).train;
-    for (int i = 0; i < log.size(); ++i) {
-      JointSample j;
-      CopySample(log, i, &j);
-      out.samples.push_back(j);
-    }
+    out.samples = SamplesOf(log);
     return out;
   }();
   return s;
@@ -608,11 +611,7 @@ const Stream& KneeFrictionStream() {
     const RobotDynamics truth = MakeRobotDynamics(out.robot, ParseEffectList("coulomb@knee"));
     const Eigen::VectorXd x = testing::TrueParameters(truth, {kKneeCoulomb}, 4);
     const JointSamples log = testing::SimulateLogs(truth, x, kNoiseSigma, 20.0, 11, 200).train;
-    for (int i = 0; i < log.size(); ++i) {
-      JointSample j;
-      CopySample(log, i, &j);
-      out.samples.push_back(j);
-    }
+    out.samples = SamplesOf(log);
     return out;
   }();
   return s;

@@ -90,6 +90,8 @@ class StreamDiagnosis {
     double t = 0.0;
     Eigen::VectorXd q, qd, qdd, tau, residual;
   };
+  /// Copies the sample into *e (false, nothing copied, if its sizes are not the model's).
+  static bool Fill(const JointSample& s, const Eigen::VectorXd& residual, Entry* e);
   void Drain();
   void Work();
   void AddToDiagnosis(const Entry& e);  // under diagnosis_mutex_
