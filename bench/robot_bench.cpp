@@ -7,6 +7,7 @@
 
 #include "inertial/estimation/joint_diagnosis.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "source_dir.hpp"
 
 namespace inertial {
 namespace {
@@ -17,7 +18,7 @@ struct Robot {
 };
 
 Robot Load(const std::string& file, const std::string& effects) {
-  RobotModel urdf = LoadUrdf(std::string(INERTIAL_SOURCE_DIR) + "/examples/" + file);
+  RobotModel urdf = LoadUrdf(std::string(InertialSourceDir()) + "/examples/" + file);
   RobotDynamics model = MakeRobotDynamics(urdf, ParseEffectList(effects));
   return Robot{std::move(urdf), std::move(model)};
 }

@@ -1,27 +1,46 @@
 #!/usr/bin/env bash
-# Installs everything inertial needs from Debian's packages. Idempotent: when every package is
-# already installed it only checks (well under a second) and touches nothing.
+# Installs what inertial needs from Debian's packages, in groups, so that each command installs only
+# what it uses:
+#   scripts/install-deps.sh               build the programs and configure the whole tree (README command 1)
+#   scripts/install-deps.sh --tests       and what the test suite runs besides (README command 2)
+#   scripts/install-deps.sh --sanitizers  and clang with libFuzzer and the sanitizer runtimes
+# (scripts/test-aarch64.sh installs the cross compiler and qemu itself.) Idempotent: when every
+# package is already installed it only checks (well under a second) and touches nothing.
 set -euo pipefail
 
 packages=(
-  g++ cmake make            # compiler and build system
+  g++ cmake                 # compiler and build system
+  ninja-build               # Ninja: the build tool CMake drives (schedules 2 cores better than make)
+  ccache                    # ccache: every build reuses the objects of earlier builds, in any clone
   libeigen3-dev             # Eigen 3.4: all linear algebra in the core
-  googletest libgtest-dev   # GoogleTest: the test suite
-  libbenchmark-dev          # Google Benchmark: bench/
   libcli11-dev              # CLI11: argument parsing of the tools
   nlohmann-json3-dev        # nlohmann-json: --json output
   gnuplot-nox               # gnuplot: figures of --report
-  chromium                  # headless Chromium: the test that the diagnose report renders
   liburdfdom-dev            # urdfdom: reading URDF robot models
   libtinyxml2-dev           # tinyxml2: writing URDF back with identified inertias
+  liblcm-dev liblcm-bin     # LCM: messages, inertiald, log replay; lcm-gen, lcm-logger
+  libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers
+  # Found when the tree is configured (the tests and benchmarks are part of it), small:
+  googletest libgtest-dev   # GoogleTest: the test suite
+  libbenchmark-dev          # Google Benchmark: bench/
   liborocos-kdl-dev         # Orocos KDL: independent inverse dynamics, tests only
   libkdl-parser-dev         # ROS kdl_parser: another URDF reader loads our model files, tests only
-  liblcm-dev liblcm-bin     # LCM: messages, inertiald, log replay; lcm-gen, lcm-logger
-  iproute2                  # ip: the multicast end-to-end test sets up its own network namespace
-  libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers
-  can-utils                 # log2asc, log2long: cross-checks of the candump parser, tests only
-  clang libclang-rt-14-dev  # clang with libFuzzer and the ASan/UBSan runtimes: sanitizer build, fuzzing (checks only)
 )
+for group in "$@"; do
+  case "$group" in
+    --tests|--sanitizers)
+      packages+=(
+        chromium            # headless Chromium: the test that the diagnose report renders
+        iproute2            # ip: the multicast end-to-end test sets up its own network namespace
+        can-utils           # log2asc, log2long: cross-checks of the candump parser, tests only
+      ) ;;&
+    --sanitizers)
+      packages+=(clang libclang-rt-14-dev)  # libFuzzer and the ASan/UBSan runtimes (checks only)
+      ;;
+    --tests) ;;
+    *) echo "install-deps: unknown group $group (--tests, --sanitizers)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

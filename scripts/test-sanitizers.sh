@@ -2,13 +2,16 @@
 # The sanitizer build: every library, tool and test compiled by clang with AddressSanitizer and
 # UndefinedBehaviorSanitizer (any report fails the test that caused it) and instrumented for
 # libFuzzer, in ./build-sanitize; then the whole test suite there, then every fuzz harness for a
-# bounded time (scripts/fuzz.sh). Part of scripts/test.sh (and so of CI). Extra arguments go to ctest.
+# bounded time (scripts/fuzz.sh). .ci/run runs it after the README's test command and the Arm half;
+# compiles go through ccache like every build (CMakeLists.txt). Extra arguments go to ctest.
 # Not detect_stack_use_after_return: it made the suite a fifth slower.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh --sanitizers
+generator=()
+if [ ! -f build-sanitize/CMakeCache.txt ]; then generator=(-G Ninja); fi
 # -O1: a third of -O2's compile time with most of its speed; the sanitizers' checks are the point.
-CXX=clang++ cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
+CXX=clang++ cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
   -DINERTIAL_SANITIZE=address,undefined -DINERTIAL_FUZZ=ON -DINERTIAL_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-sanitize -j"$(nproc)"
 # detect_leaks: a leak fails the test. abort_on_error: a report ends the process with a signal CTest shows.

@@ -14,6 +14,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/urdf_model.hpp"
+#include "source_dir.hpp"
 
 namespace inertial::fuzz {
 
@@ -35,7 +36,7 @@ inline std::string Text(const std::uint8_t* data, std::size_t size) {
 
 /// The bundled 3-DOF leg (examples/leg3.urdf; joints abad, hip, knee), loaded once.
 inline const RobotModel& Leg() {
-  static const RobotModel robot = LoadUrdf(std::string(INERTIAL_SOURCE_DIR) + "/examples/leg3.urdf");
+  static const RobotModel robot = LoadUrdf(std::string(InertialSourceDir()) + "/examples/leg3.urdf");
   return robot;
 }
 

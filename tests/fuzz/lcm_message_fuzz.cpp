@@ -15,7 +15,7 @@ namespace {
 
 const inertial::JointMessageFormat& UserFormat() {
   static const inertial::JointMessageFormat format = [] {
-    std::ifstream in(std::string(INERTIAL_SOURCE_DIR) + "/tests/transport/data/leg_control_data_lcmt.json");
+    std::ifstream in(std::string(InertialSourceDir()) + "/tests/transport/data/leg_control_data_lcmt.json");
     return inertial::ParseJointMessageFormat(nlohmann::json::parse(in));
   }();
   return format;

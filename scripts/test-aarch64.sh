@@ -3,12 +3,13 @@
 # the benchmarks (bench/inertial_bench: per-tick latency) for 64-bit Arm into ./build-aarch64, then
 # runs the core's tests under qemu-aarch64 (CTest prepends the emulator; cmake/aarch64-linux-gnu.cmake).
 # Installs what it needs from Debian first: the cross compiler, qemu-user, and the arm64 GoogleTest
-# and Google Benchmark packages through multiarch. Part of scripts/test.sh (and so of CI); extra
-# arguments go to ctest. Copy build-aarch64/bench/inertial_bench to the robot's computer and run it
+# and Google Benchmark packages through multiarch. .ci/run runs it after the README's test command;
+# compiles go through ccache like every build (CMakeLists.txt). Extra arguments go to ctest. Copy build-aarch64/bench/inertial_bench to the robot's computer and run it
 # there for the real latency (README, "On the robot's computer").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+scripts/install-deps.sh
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
@@ -18,13 +19,15 @@ for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then missing+=("$p"); fi
 done
 if [ ${#missing[@]} -gt 0 ]; then
-  echo "cross-aarch64: installing ${missing[*]}"
+  echo "test-aarch64: installing ${missing[*]}"
   if ! dpkg --print-foreign-architectures | grep -qx arm64; then $SUDO dpkg --add-architecture arm64; fi
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S . -B build-aarch64 -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake -DINERTIAL_CORE_ONLY=ON \
+generator=()
+if [ ! -f build-aarch64/CMakeCache.txt ]; then generator=(-G Ninja); fi
+cmake -S . -B build-aarch64 "${generator[@]}" -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake -DINERTIAL_CORE_ONLY=ON \
   -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-aarch64 -j"$(nproc)"
 echo "build-aarch64/bench/inertial_bench: $(aarch64-linux-gnu-readelf -h build-aarch64/bench/inertial_bench | sed -n "s/^ *Machine: *//p")"
