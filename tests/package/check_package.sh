@@ -11,9 +11,11 @@
 #    inertial::estimation, and runs: the tracking error falls as the payload is learned;
 # 5. the full install adds the I/O layer (inertial::io, with its dependencies found again) and the
 #    programs: a small tool links inertial::io and loads a URDF.
-# usage: check_package.sh SOURCE_DIR BUILD_DIR WORK_DIR CXX "CXX_FLAGS" EIGEN_INCLUDE_DIRS
+# usage: check_package.sh SOURCE_DIR BUILD_DIR WORK_DIR CXX "CXX_FLAGS" EIGEN_INCLUDE_DIRS [GENERATOR]
+# GENERATOR: CMake's generator for the configures here, the build's own (Ninja needs no make).
 set -euo pipefail
 src=$1 build=$2 work=$3 cxx=$4 flags=$5 eigen=$6
+if [ -n "${7:-}" ]; then export CMAKE_GENERATOR=$7; fi
 rm -rf "$work"
 mkdir -p "$work"
 
