@@ -43,7 +43,7 @@ namespace {
 constexpr int kSamples = 1000;
 
 // The bundled robots written out in code (the URDFs' own, tests/formats/bundled_robots_test.cpp): this
-// program uses the core alone, so that it builds for the robot's computer (scripts/cross-aarch64.sh).
+// program uses the core alone, so that it builds for the robot's computer (scripts/test-aarch64.sh).
 RobotDynamics Robot(const std::string& model) {
   if (model == "leg3") {
     return examples::Leg3().Dynamics("viscous,coulomb,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9.33");

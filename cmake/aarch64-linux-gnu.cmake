@@ -3,7 +3,7 @@
 # Compiler: g++-aarch64-linux-gnu. Libraries (GoogleTest, Google Benchmark) are the arm64 packages
 # installed through multiarch (dpkg --add-architecture arm64), found under /usr/lib/aarch64-linux-gnu;
 # Eigen is headers only. Programs and tests run under qemu-aarch64 (CTest prepends the emulator),
-# which finds the arm64 C and C++ runtimes of multiarch. scripts/cross-aarch64.sh does all of it.
+# which finds the arm64 C and C++ runtimes of multiarch. scripts/test-aarch64.sh does all of it.
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)

@@ -9,4 +9,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh --tests
 scripts/build.sh
-ctest --test-dir build --output-on-failure -j"$(nproc)" "$@"
+ctest --test-dir "${INERTIAL_BUILD_DIR:-build}" --output-on-failure -j"$(nproc)" "$@"

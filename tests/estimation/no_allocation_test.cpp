@@ -1,7 +1,8 @@
 // The online estimators allocate nothing per sample. Proven two ways around long runs of
-// updates: Eigen's EIGEN_RUNTIME_NO_MALLOC guard (this program compiles the core's sources itself
-// with the guard on and assertions live, see tests/CMakeLists.txt), and a counting malloc /
-// operator new hook that sees every heap allocation of the process, the standard library's too.
+// updates: Eigen's EIGEN_RUNTIME_NO_MALLOC guard (this program compiles the core sources that the
+// estimators' Update runs itself, with the guard on and assertions live; tests/CMakeLists.txt says
+// which and how they were found), and a counting malloc / operator new hook that sees every heap
+// allocation of the process, any file's and the standard library's too.
 // Robots are built in code (a 3-DOF leg with rotors and friction, a 7-DOF arm with friction and
 // offsets, one body) so that the core alone is linked.
 #include <gtest/gtest.h>
