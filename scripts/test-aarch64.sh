@@ -4,8 +4,9 @@
 # runs the core's tests under qemu-aarch64 (CTest prepends the emulator; cmake/aarch64-linux-gnu.cmake).
 # Installs what it needs from Debian first: the cross compiler, qemu-user, and the arm64 GoogleTest
 # and Google Benchmark packages through multiarch. .ci/run runs it after the README's test command;
-# compiles go through ccache like every build (CMakeLists.txt). Extra arguments go to ctest. Copy build-aarch64/bench/inertial_bench to the robot's computer and run it
-# there for the real latency (README, "On the robot's computer").
+# it builds through scripts/build.sh (Ninja, ccache). Extra arguments go to ctest. Copy
+# build-aarch64/bench/inertial_bench to the robot's computer and run it there for the real latency
+# (README, "On the robot's computer").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,10 +26,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-generator=()
-if [ ! -f build-aarch64/CMakeCache.txt ]; then generator=(-G Ninja); fi
-cmake -S . -B build-aarch64 "${generator[@]}" -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake -DINERTIAL_CORE_ONLY=ON \
-  -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build-aarch64 -j"$(nproc)"
+INERTIAL_BUILD_DIR=build-aarch64 scripts/build.sh -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake \
+  -DINERTIAL_CORE_ONLY=ON
 echo "build-aarch64/bench/inertial_bench: $(aarch64-linux-gnu-readelf -h build-aarch64/bench/inertial_bench | sed -n "s/^ *Machine: *//p")"
 ctest --test-dir build-aarch64 --output-on-failure -j"$(nproc)" "$@"

@@ -8,12 +8,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh --sanitizers
-generator=()
-if [ ! -f build-sanitize/CMakeCache.txt ]; then generator=(-G Ninja); fi
 # -O1: a third of -O2's compile time with most of its speed; the sanitizers' checks are the point.
-CXX=clang++ cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
-  -DINERTIAL_SANITIZE=address,undefined -DINERTIAL_FUZZ=ON -DINERTIAL_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build-sanitize -j"$(nproc)"
+CXX=clang++ INERTIAL_BUILD_DIR=build-sanitize scripts/build.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DINERTIAL_SANITIZE=address,undefined -DINERTIAL_FUZZ=ON \
+  -DINERTIAL_BUILD_BENCHMARKS=OFF
 # detect_leaks: a leak fails the test. abort_on_error: a report ends the process with a signal CTest shows.
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
