@@ -24,4 +24,4 @@ done
 ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" "$@"
 # A fixed number of inputs from a fixed seed: the same inputs on every machine, so a CI result can be
 # reproduced (about 30 s for the slowest harness, 2 minutes in all; scripts/fuzz.sh --seconds or --runs for long runs).
-scripts/fuzz.sh --runs "${INERTIAL_FUZZ_RUNS:-20000}" --seed 1
+INERTIAL_BUILD_DIR=build-sanitize scripts/fuzz.sh --runs "${INERTIAL_FUZZ_RUNS:-20000}" --seed 1

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "inertial/config/message_format.hpp"
+#include "inertial/formats/json_integer.hpp"
 
 namespace inertial {
 
@@ -51,10 +52,9 @@ void ApplyTuning(const nlohmann::json& t, OnlineEstimatorOptions* e) {
   number("gain", 0, false, 2, false, "in (0, 2)", [&](double x) { e->gradient.gain = x; });
   if (t.contains("max_consecutive_outliers")) {
     const nlohmann::json& v = t["max_consecutive_outliers"];
-    if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 1000000000) {
-      throw std::invalid_argument("config: tuning: \"max_consecutive_outliers\" must be an integer >= 1");
-    }
-    e->kalman.max_consecutive_outliers = e->gradient.max_consecutive_outliers = v.get<int>();
+    const std::optional<std::int64_t> n = JsonInteger(v, 1, 1000000000);
+    if (!n) throw std::invalid_argument("config: tuning: \"max_consecutive_outliers\" " + NotAnIntegerText(v, 1, 1000000000));
+    e->kalman.max_consecutive_outliers = e->gradient.max_consecutive_outliers = static_cast<int>(*n);
   }
   if (!(e->kalman.gate > e->kalman.huber)) {
     throw std::invalid_argument("config: tuning: \"gate\" must exceed \"huber\" (outliers lie beyond the down-weighted band)");
@@ -99,11 +99,9 @@ void ApplyDaemonConfig(const nlohmann::json& c, DaemonOptions* o) {
   positive("checkpoint_interval_s", &o->checkpoint_interval_s);
   positive("noise_tau", &o->estimator.measurement_sigma);
   if (c.contains("queue_capacity")) {
-    if (!c["queue_capacity"].is_number_integer() || c["queue_capacity"].get<long long>() < 1 ||
-        c["queue_capacity"].get<long long>() > 100000) {
-      throw std::invalid_argument("config: \"queue_capacity\" must be an integer in [1, 100000]");
-    }
-    o->queue_capacity = c["queue_capacity"].get<std::size_t>();
+    const std::optional<std::int64_t> n = JsonInteger(c["queue_capacity"], 1, 100000);
+    if (!n) throw std::invalid_argument("config: \"queue_capacity\" " + NotAnIntegerText(c["queue_capacity"], 1, 100000));
+    o->queue_capacity = static_cast<std::size_t>(*n);
   }
   std::string kind, level;
   text("estimator", &kind);

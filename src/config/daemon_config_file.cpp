@@ -1,20 +1,17 @@
 #include "inertial/config/daemon_config_file.hpp"
 
-#include <fstream>
-
-#include "inertial/formats/file_error.hpp"
+#include "inertial/formats/input_file.hpp"
 
 namespace inertial {
 
-void ApplyDaemonConfigFile(const std::string& path, DaemonOptions* options) {
-  std::ifstream in(path);
-  if (!in) {
-    throw DaemonConfigFileError(DaemonConfigFileError::Reason::kUnreadable,
-                                CannotText("read", "configuration", path));
+void ApplyDaemonConfigText(const std::string& text, const std::string& source, DaemonOptions* options) {
+  if (text.size() > kMaxSettingsFileBytes) {
+    throw DaemonConfigFileError(DaemonConfigFileError::Reason::kTooLarge,
+                                TooLargeText(source, "configuration", text.size(), kMaxSettingsFileBytes));
   }
   nlohmann::json config;
   try {
-    config = nlohmann::json::parse(in);
+    config = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw DaemonConfigFileError(DaemonConfigFileError::Reason::kNotJson, e.what());
   }
@@ -23,6 +20,19 @@ void ApplyDaemonConfigFile(const std::string& path, DaemonOptions* options) {
   } catch (const std::exception& e) {
     throw DaemonConfigFileError(DaemonConfigFileError::Reason::kInvalid, e.what());
   }
+}
+
+void ApplyDaemonConfigFile(const std::string& path, DaemonOptions* options) {
+  std::string text;
+  try {
+    text = ReadInputFile(path, "configuration", kMaxSettingsFileBytes);
+  } catch (const InputFileError& e) {
+    throw DaemonConfigFileError(e.reason() == InputFileError::Reason::kTooLarge
+                                    ? DaemonConfigFileError::Reason::kTooLarge
+                                    : DaemonConfigFileError::Reason::kUnreadable,
+                                e.what());
+  }
+  ApplyDaemonConfigText(text, path, options);
 }
 
 }  // namespace inertial

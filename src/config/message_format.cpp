@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "inertial/formats/json_integer.hpp"
+
 namespace inertial {
 
 LcmLayout ParseLcmLayout(const nlohmann::json& j) {
@@ -35,8 +37,8 @@ LcmLayout ParseLcmLayout(const nlohmann::json& j) {
     }
     f.type = t->second;
     if (e.contains("length")) {
-      if (e["length"].is_number_integer() && e["length"].get<long long>() >= 0 && e["length"].get<long long>() <= 4096) {
-        f.length = e["length"].get<int>();
+      if (const std::optional<std::int64_t> n = JsonInteger(e["length"], 0, 4096)) {
+        f.length = static_cast<int>(*n);
       } else if (e["length"].is_string()) {
         f.length_field = e["length"].get<std::string>();
       } else {

@@ -1,12 +1,10 @@
 #include "inertial/config/motors_yaml.hpp"
-#include "inertial/formats/file_error.hpp"
+#include "inertial/formats/input_file.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 namespace inertial {
@@ -16,6 +14,9 @@ CanConfig ParseCanConfigNodes(const std::string& text, const std::string& source
 }  // namespace
 
 CanConfig ParseCanConfig(const std::string& text, const std::string& source) {
+  if (text.size() > kMaxSettingsFileBytes) {
+    throw std::invalid_argument(TooLargeText(source, "motor configuration", text.size(), kMaxSettingsFileBytes));
+  }
   try {
     return ParseCanConfigNodes(text, source);
   } catch (const YAML::Exception& e) {  // a value of the wrong kind (a list where a number belongs ...)
@@ -157,11 +158,14 @@ CanConfig ParseCanConfigNodes(const std::string& text, const std::string& source
 }  // namespace
 
 CanConfig LoadCanConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(CannotText("read", "motor configuration", path));
-  std::stringstream s;
-  s << in.rdbuf();
-  return ParseCanConfig(s.str(), path);
+  std::string text;
+  try {
+    text = ReadInputFile(path, "motor configuration", kMaxSettingsFileBytes);
+  } catch (const InputFileError& e) {
+    if (e.reason() == InputFileError::Reason::kTooLarge) throw std::invalid_argument(e.what());
+    throw std::runtime_error(e.what());
+  }
+  return ParseCanConfig(text, path);
 }
 
 }  // namespace inertial

@@ -1,5 +1,7 @@
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/formats/file_error.hpp"
+#include "inertial/formats/input_file.hpp"
+#include "inertial/formats/json_integer.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -53,9 +55,12 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
     if (!j.is_object() || j.value("format", "") != kFormat) {
       throw StateFileError(source + ": not an estimator state (no \"format\": \"" + kFormat + "\")");
     }
-    if (j.at("version").get<int>() != kVersion) {
-      throw StateFileError(source + ": estimator state version " + std::to_string(j.at("version").get<int>()) +
-                           ", this program reads version " + std::to_string(kVersion));
+    const nlohmann::json& version = j.at("version");
+    const std::optional<std::int64_t> v = JsonInteger(version, 1, 1000000);
+    if (!v) throw StateFileError(source + ": \"version\" " + NotAnIntegerText(version, 1, 1000000));
+    if (*v != kVersion) {
+      throw StateFileError(source + ": estimator state version " + std::to_string(*v) + ", this program reads version " +
+                           std::to_string(kVersion));
     }
     EstimatorState s;
     s.kind = j.at("kind").get<std::string>();
@@ -79,11 +84,11 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
     for (int k = 0; k < kNumUpdateStatuses; ++k) {
       const std::string name(ToString(static_cast<UpdateStatus>(k)));
       if (!counters.contains(name)) continue;
-      if (!counters.at(name).is_number_unsigned()) {
-        throw StateFileError(source + ": counter \"" + name + "\" is " + counters.at(name).dump() +
-                             ", not a non-negative integer");
+      const std::optional<std::uint64_t> count = JsonUnsigned(counters.at(name), UINT64_MAX);
+      if (!count) {
+        throw StateFileError(source + ": counter \"" + name + "\" " + NotAnIntegerText(counters.at(name), 0, UINT64_MAX));
       }
-      s.counters.count[k] = counters.at(name).get<std::uint64_t>();
+      s.counters.count[k] = *count;
     }
     return s;
   } catch (const nlohmann::json::exception& e) {
@@ -129,11 +134,13 @@ void SaveEstimatorState(const std::string& path, const EstimatorState& state, co
 }
 
 EstimatorState LoadEstimatorState(const std::string& path, std::string* model_description) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw StateFileError(CannotText("read", "estimator state", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return EstimatorStateFromJson(text.str(), path, model_description);
+  std::string text;
+  try {
+    text = ReadInputFile(path, "estimator state", kMaxStateFileBytes);
+  } catch (const InputFileError& e) {
+    throw StateFileError(e.what());
+  }
+  return EstimatorStateFromJson(text, path, model_description);
 }
 
 }  // namespace inertial

@@ -7,14 +7,15 @@
 #include <Eigen/Geometry>
 #include <cerrno>
 #include <cmath>
+#include <cctype>
+#include <charconv>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
-#include <sstream>
+#include <regex>
 
-#include "inertial/formats/file_error.hpp"
+#include "inertial/formats/input_file.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "urdf_effects.hpp"
@@ -105,13 +106,30 @@ const std::map<std::string, std::map<std::string, int>>& NumericAttributes() {
   return table;
 }
 
+// The shortest text that reads back as x ("1e+300", "-1000.5").
+std::string Shortest(double x) {
+  char text[32];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof text, x);
+  return std::string(text, r.ptr);
+}
+
+// The attributes that are lengths [m]: positions of frames (origins of joints, of COMs, of visuals
+// and collisions) and sizes of shapes.
+bool IsLength(const std::string& element, const std::string& attribute) {
+  if (element == "origin") return attribute == "xyz";
+  if (element == "box") return attribute == "size";
+  if (element == "cylinder" || element == "capsule") return attribute == "radius" || attribute == "length";
+  return element == "sphere" && attribute == "radius";
+}
+
 // Checks the subtree of an element urdfdom reads before urdfdom sees it: urdfdom (through
 // console_bridge) hands some attribute text to a printf-style logger as the format itself, so a
 // '%' in it reads or writes memory. No attribute there may hold a '%', and every numeric attribute
 // must hold exactly its finite numbers (number_parsing.hpp); anything else is refused naming the
 // file, the element (with its line) and the attribute.
-void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source) {
-  const std::string where = source + ": <" + std::string(e.Name()) + "> (line " + std::to_string(e.GetLineNum()) + ")";
+void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source, const std::string& owner = "") {
+  const std::string where =
+      source + ": " + owner + "<" + std::string(e.Name()) + "> (line " + std::to_string(e.GetLineNum()) + ")";
   const auto numeric = NumericAttributes().find(e.Name());
   for (const tinyxml2::XMLAttribute* a = e.FirstAttribute(); a != nullptr; a = a->Next()) {
     const std::string value = a->Value();
@@ -132,9 +150,17 @@ void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source
       throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + std::to_string(numbers.size()) +
                       " numbers, " + std::to_string(count->second) + " expected");
     }
+    if (IsLength(e.Name(), a->Name())) {
+      for (const double x : numbers) {
+        if (std::abs(x) > kMaxUrdfLength) {
+          throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + Shortest(x) + " m, beyond the " +
+                          Shortest(kMaxUrdfLength) + " m of any robot (a length in millimetres?)");
+        }
+      }
+    }
   }
   for (const tinyxml2::XMLElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
-    ValidateForUrdfdom(*c, source);
+    ValidateForUrdfdom(*c, source, owner);
   }
 }
 
@@ -174,12 +200,47 @@ void CheckJointGraph(const tinyxml2::XMLElement& robot, const std::string& sourc
   }
 }
 
-FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    throw UrdfError(source + ": is not a valid URDF: " + detail::DescribeXmlError(doc));
+// tinyxml2 reads every "<?...?>" before the root element as one declaration node, whatever it holds
+// (it refuses them anywhere else). The XML declaration ("<?xml version=... ?>", first in the file)
+// must have its grammar (XML 1.0, production 23), and no other processing instruction may hold a
+// '<': "<?xml " with 100,000 nested elements before its "?>" is one node to tinyxml2 and 100,000
+// elements to other XML readers (issue 35).
+void CheckDeclarations(const tinyxml2::XMLDocument& doc, const std::string& source) {
+  static const std::regex kXmlDeclaration(
+      R"re(xml\s+version\s*=\s*("1\.[0-9]+"|'1\.[0-9]+')(\s+encoding\s*=\s*("[A-Za-z][A-Za-z0-9._-]*"|'[A-Za-z][A-Za-z0-9._-]*'))?)re"
+      R"re((\s+standalone\s*=\s*("(yes|no)"|'(yes|no)'))?\s*)re");
+  for (const tinyxml2::XMLNode* n = doc.FirstChild(); n != nullptr; n = n->NextSibling()) {
+    const tinyxml2::XMLDeclaration* d = n->ToDeclaration();
+    if (d == nullptr) continue;
+    const std::string text = d->Value();
+    const std::string where =
+        source + ": is not a valid URDF: the processing instruction at line " + std::to_string(d->GetLineNum());
+    const bool xml = text.compare(0, 3, "xml") == 0 && (text.size() == 3 || std::isspace(static_cast<unsigned char>(text[3])));
+    if (xml && (n != doc.FirstChild() || !std::regex_match(text, kXmlDeclaration))) {
+      throw UrdfError(where + " is not an XML declaration (<?xml version=\"1.0\" encoding=\"...\"?>, first in the file)");
+    }
+    if (text.find('<') != std::string::npos) throw UrdfError(where + " holds a '<' (an element inside \"<?...?>\")");
   }
-  const tinyxml2::XMLElement* robot = doc.RootElement();
+}
+
+// Prints what urdfdom needs of an element: elements, attributes and text; comments and unknown
+// nodes ("<!...>") left out.
+class UrdfdomPrinter : public tinyxml2::XMLPrinter {
+ public:
+  UrdfdomPrinter() : tinyxml2::XMLPrinter(nullptr, /*compact=*/true) {}
+  bool Visit(const tinyxml2::XMLComment&) override { return true; }
+  bool Visit(const tinyxml2::XMLUnknown&) override { return true; }
+};
+
+// Parses and checks the URDF with tinyxml2 into *doc and returns its <robot>. tinyxml2 refuses
+// nesting deeper than TINYXML2_MAX_ELEMENT_DEPTH (100) levels, which no URDF needs.
+const tinyxml2::XMLElement& ParseRobotXml(const std::string& xml, const std::string& source, tinyxml2::XMLDocument* doc) {
+  if (xml.size() > kMaxUrdfBytes) throw UrdfError(TooLargeText(source, "URDF", xml.size(), kMaxUrdfBytes));
+  if (doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    throw UrdfError(source + ": is not a valid URDF: " + detail::DescribeXmlError(*doc));
+  }
+  CheckDeclarations(*doc, source);
+  const tinyxml2::XMLElement* robot = doc->RootElement();
   if (robot == nullptr || std::strcmp(robot->Name(), "robot") != 0) {
     throw UrdfError(source + ": is not a valid URDF: the root element is " +
                     (robot == nullptr ? std::string("missing") : "<" + std::string(robot->Name()) + ">") +
@@ -192,14 +253,33 @@ FileOrder ReadFileOrder(const std::string& xml, const std::string& source) {
   }
   for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string name = e->Name();
-    if (name == "link" || name == "joint" || name == "material") ValidateForUrdfdom(*e, source);
+    if (name == "link" || name == "joint" || name == "material") {
+      const char* element_name = e->Attribute("name");
+      ValidateForUrdfdom(*e, source, element_name != nullptr ? name + " '" + element_name + "': " : "");
+    }
   }
   CheckJointGraph(*robot, source);
+  return *robot;
+}
+
+// What urdfdom parses: the <robot> element tinyxml2 read and checked, printed again, and nothing
+// else. urdfdom parses with the old TinyXML, which recurses once per level of nesting with no limit
+// and reads a declaration differently from tinyxml2: "<?xml " followed by 100,000 nested elements
+// and "?>" was one declaration node to tinyxml2 and 100,000 levels of recursion (a stack overflow)
+// to TinyXML (issue 35). The printed element has anything outside <robot> dropped, and inside it
+// only elements, attributes and text (UrdfdomPrinter): its nesting is what tinyxml2 counted.
+std::string RobotElementText(const tinyxml2::XMLElement& robot) {
+  UrdfdomPrinter printer;
+  robot.Accept(&printer);
+  return std::string(printer.CStr(), static_cast<std::size_t>(printer.CStrSize() - 1));
+}
+
+FileOrder ReadFileOrder(const tinyxml2::XMLElement& robot) {
   FileOrder order;
-  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
+  for (const tinyxml2::XMLElement* e = robot.FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
     if (const char* name = e->Attribute("name")) order.links.emplace_back(name);
   }
-  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
+  for (const tinyxml2::XMLElement* e = robot.FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
     if (const char* name = e->Attribute("name")) order.joints.emplace_back(name);
   }
   return order;
@@ -319,8 +399,10 @@ SpatialTransform RobotModel::LinkInBody(const std::string& link) const {
 
 RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, const UrdfLoadOptions& options) {
   const std::string& src = source_name;
-  const FileOrder order = ReadFileOrder(xml, src);
-  const urdf::ModelInterfaceSharedPtr urdf_model = ParseWithUrdfdom(xml, src);
+  tinyxml2::XMLDocument doc;
+  const tinyxml2::XMLElement& robot_element = ParseRobotXml(xml, src, &doc);
+  const FileOrder order = ReadFileOrder(robot_element);
+  const urdf::ModelInterfaceSharedPtr urdf_model = ParseWithUrdfdom(RobotElementText(robot_element), src);
 
   RobotModel model;
   model.name = urdf_model->getName();
@@ -412,22 +494,21 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
     model.dof_names.push_back(body.joint.name);
   }
 
-  tinyxml2::XMLDocument doc;
-  doc.Parse(xml.c_str(), xml.size());  // parsed once already by ReadFileOrder
-  model.effects = detail::ReadModelEffects(*doc.RootElement(), src, model.dof_names, &model.effect_declared);
-  model.dof_limits = detail::ReadJointLimits(*doc.RootElement(), src, model.dof_names);
+  model.effects = detail::ReadModelEffects(robot_element, src, model.dof_names, &model.effect_declared);
+  model.dof_limits = detail::ReadJointLimits(robot_element, src, model.dof_names);
   return model;
 }
 
 RobotModel LoadUrdf(const std::string& path, const UrdfLoadOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw UrdfError(CannotText("read", "URDF", path, EISDIR));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UrdfError(CannotText("read", "URDF", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw UrdfError(path + ": cannot read the file");
-  return ParseUrdf(text.str(), path, options);
+  return ParseUrdf(ReadUrdfFile(path), path, options);
+}
+
+std::string ReadUrdfFile(const std::string& path) {
+  try {
+    return ReadInputFile(path, "URDF", kMaxUrdfBytes);
+  } catch (const InputFileError& e) {
+    throw UrdfError(e.what());
+  }
 }
 
 }  // namespace inertial

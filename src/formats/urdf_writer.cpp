@@ -92,14 +92,7 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
                   const std::map<std::string, JointDynamics>& dynamics) {
   const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
   const std::set<std::string>& removed_inertials = changes.removed_inertials;
-  std::error_code ec;
-  if (std::filesystem::is_directory(in_path, ec)) throw UrdfError(CannotText("read", "URDF", in_path, EISDIR));
-  std::ifstream in(in_path, std::ios::binary);
-  if (!in) throw UrdfError(CannotText("read", "URDF", in_path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw UrdfError(in_path + ": cannot read the file");
-  const std::string xml = text.str();
+  const std::string xml = ReadUrdfFile(in_path);
 
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {

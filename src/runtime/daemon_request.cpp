@@ -5,6 +5,7 @@
 
 #include "inertial/config/daemon_config_file.hpp"
 #include "inertial/config/motors_yaml.hpp"
+#include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/formats/output_paths.hpp"
@@ -36,7 +37,8 @@ void ApplyConfigFile(const std::string& path, DaemonOptions* options) {
     ApplyDaemonConfigFile(path, options);
   } catch (const DaemonConfigFileError& e) {
     switch (e.reason()) {
-      case DaemonConfigFileError::Reason::kUnreadable: Fail(StartFailure::kFileError, std::string("--config: ") + e.what());
+      case DaemonConfigFileError::Reason::kUnreadable:
+      case DaemonConfigFileError::Reason::kTooLarge: Fail(StartFailure::kFileError, std::string("--config: ") + e.what());
       case DaemonConfigFileError::Reason::kNotJson:
         Fail(StartFailure::kFileError, "--config: " + path + " is not valid JSON: " + e.what());
       case DaemonConfigFileError::Reason::kInvalid: Fail(StartFailure::kFileError, "--config " + path + ": " + e.what());
@@ -128,6 +130,8 @@ std::unique_ptr<EstimationDaemon> MakeDaemon(const DaemonRequest& r, std::atomic
   } catch (const DaemonStartError&) {
     throw;
   } catch (const UrdfError& e) {
+    Fail(StartFailure::kFileError, e.what());
+  } catch (const StateFileError& e) {  // --checkpoint names a file that cannot be restored
     Fail(StartFailure::kFileError, e.what());
   } catch (const std::invalid_argument& e) {
     Fail(StartFailure::kUsage, e.what());

@@ -260,12 +260,12 @@ void EstimationDaemon::RestoreCheckpoint() {
   const std::filesystem::path path(options_.checkpoint_path);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' is a directory, not a file");
+    throw StateFileError("--checkpoint '" + options_.checkpoint_path + "' is a directory, not a file");
   }
   // Refused now rather than failing at every interval: the directory must take new files.
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK | X_OK) != 0) {
-    throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "': cannot write files in '" + dir.string() +
+    throw StateFileError("--checkpoint '" + options_.checkpoint_path + "': cannot write files in '" + dir.string() +
                              "' (" + (std::filesystem::exists(dir, ec) ? "permission denied" : "no such directory") +
                              ")");
   }
@@ -273,7 +273,7 @@ void EstimationDaemon::RestoreCheckpoint() {
   // Not restored: refuse to start (the file is left as it is) unless told to start afresh.
   auto unusable = [&](const std::string& why) {
     if (!options_.start_fresh) {
-      throw std::runtime_error("--checkpoint '" + options_.checkpoint_path + "' " + why +
+      throw StateFileError("--checkpoint '" + options_.checkpoint_path + "' " + why +
                                "; it is left untouched: give another path, or --fresh to start from the priors and "
                                "overwrite it");
     }

@@ -14,7 +14,7 @@ ReplayConfig ReplayConfigFromFile(const std::string& config_path) {
   try {
     ApplyDaemonConfigFile(config_path, &daemon);
   } catch (const DaemonConfigFileError& e) {
-    if (e.reason() == DaemonConfigFileError::Reason::kUnreadable) {
+    if (e.reason() == DaemonConfigFileError::Reason::kUnreadable || e.reason() == DaemonConfigFileError::Reason::kTooLarge) {
       throw std::runtime_error(std::string("--config: ") + e.what());
     }
     throw std::runtime_error("--config: " + config_path + ": " + e.what());

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "inertial/formats/input_file.hpp"
 
 namespace inertial {
 namespace {
@@ -42,6 +43,25 @@ TEST(DaemonConfigFile, AMissingFileCannotBeRead) {
   const DaemonConfigFileError e = ErrorOf(path);
   EXPECT_EQ(e.reason(), DaemonConfigFileError::Reason::kUnreadable);
   EXPECT_EQ(std::string(e.what()), "cannot read the configuration '" + path + "': No such file or directory");
+}
+
+// Issue 35: settings files are small; one over kMaxSettingsFileBytes is refused by its size before
+// any parser sees it, at once.
+TEST(DaemonConfigFile, AFileOverTheSettingsLimitIsRefusedBeforeParsing) {
+  std::string text = R"({"channel": ")" + std::string(kMaxSettingsFileBytes, 'x') + "\"}";
+  const std::string path = testing::WriteUniqueTempFile("big.json", text);
+  DaemonConfigFileError e = ErrorOf(path);
+  EXPECT_EQ(e.reason(), DaemonConfigFileError::Reason::kTooLarge);
+  EXPECT_EQ(std::string(e.what()), path + ": the configuration is " + std::to_string(text.size()) + " bytes, over its limit of 64 KiB: refused before parsing");
+  DaemonOptions options;
+  EXPECT_THROW(ApplyDaemonConfigText(text, "text.json", &options), DaemonConfigFileError);
+  EXPECT_EQ(options.input_channel, DaemonOptions().input_channel);
+  // At the limit it is read.
+  text = R"({"channel": ")" + std::string(kMaxSettingsFileBytes - 15, 'x') + "\"}";
+  ASSERT_EQ(text.size(), kMaxSettingsFileBytes);
+  ApplyDaemonConfigText(text, "text.json", &options);
+  EXPECT_EQ(options.input_channel.size(), kMaxSettingsFileBytes - 15);
+  std::filesystem::remove(path);
 }
 
 TEST(DaemonConfigFile, TextThatIsNotJsonIsToldApartFromAnInvalidConfiguration) {

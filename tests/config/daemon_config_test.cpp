@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 namespace inertial {
 namespace {
@@ -64,6 +65,26 @@ TEST(DaemonConfig, DiagnosisAndPayloadChannels) {
   EXPECT_NE(ErrorOf(R"({"diagnosis_channel": 3})").find("\"diagnosis_channel\" must be a string"), std::string::npos);
 }
 
+// Issue 35: integers are checked as integers in range before any conversion (1e308 in an int is
+// undefined behaviour; 1.9 was truncated).
+TEST(DaemonConfig, IntegersAreCheckedBeforeConversion) {
+  // Each as written, and as nlohmann writes it back.
+  for (const auto& [bad, shown] : std::vector<std::pair<std::string, std::string>>{
+           {"1e308", "1e+308"}, {"1.9", "1.9"}, {"0", "0"}, {"100001", "100001"}, {"-5", "-5"},
+           {"18446744073709551615", "18446744073709551615"}, {"\"10\"", "\"10\""}, {"null", "null"}}) {
+    EXPECT_EQ(ErrorOf(R"({"queue_capacity": )" + bad + "}"), "config: \"queue_capacity\" is " + shown + ", not an integer from 1 to 100000");
+  }
+  for (const auto& [bad, shown] : std::vector<std::pair<std::string, std::string>>{{"1e308", "1e+308"}, {"-1e308", "-1e+308"}, {"0.5", "0.5"}}) {
+    EXPECT_EQ(ErrorOf(R"({"tuning": {"max_consecutive_outliers": )" + bad + "}}"),
+              "config: tuning: \"max_consecutive_outliers\" is " + shown + ", not an integer from 1 to 1000000000");
+  }
+  DaemonOptions o;
+  ApplyDaemonConfig(nlohmann::json::parse(R"({"queue_capacity": 512.0, "tuning": {"max_consecutive_outliers": 7}})"), &o);
+  EXPECT_EQ(o.queue_capacity, 512u);
+  EXPECT_EQ(o.estimator.kalman.max_consecutive_outliers, 7);
+  EXPECT_EQ(o.estimator.gradient.max_consecutive_outliers, 7);
+}
+
 TEST(DaemonConfig, OutOfRangeTuningIsRefusedNamingTheKeyAndItsRange) {
   EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 0}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"forgetting": 1.5}})"), "config: tuning: \"forgetting\" must be a number in (0, 1]");
@@ -73,7 +94,7 @@ TEST(DaemonConfig, OutOfRangeTuningIsRefusedNamingTheKeyAndItsRange) {
   EXPECT_EQ(ErrorOf(R"({"tuning": {"gain": 2}})"), "config: tuning: \"gain\" must be a number in (0, 2)");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"huber": "3"}})"), "config: tuning: \"huber\" must be a number > 0");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"max_consecutive_outliers": 2.5}})"),
-            "config: tuning: \"max_consecutive_outliers\" must be an integer >= 1");
+            "config: tuning: \"max_consecutive_outliers\" is 2.5, not an integer from 1 to 1000000000");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"huber": 40}})"),
             "config: tuning: \"gate\" must exceed \"huber\" (outliers lie beyond the down-weighted band)");
   EXPECT_EQ(ErrorOf(R"({"tuning": {"forgeting": 0.9}})"), "config: tuning: unknown key \"forgeting\"");

@@ -3,7 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <stdexcept>
+
+#include "cli_support.hpp"
+#include "inertial/formats/input_file.hpp"
+#include "test_support.hpp"
 
 namespace inertial {
 namespace {
@@ -34,6 +39,39 @@ motors:
                           "motors:\n  - {id: 1, joint: a, protocol: linear, position: {width: 2.5}, velocity: {}, torque: {}}"}) {
     EXPECT_THROW(ParseCanConfig(bad, "bad.yaml"), std::invalid_argument) << bad;
   }
+}
+
+// Issue 35: one value of 1.5 million commas made yaml-cpp take 9.9 s and 1.4 GB before its error.
+// Settings files over kMaxSettingsFileBytes are refused by their size, at once, from text or a file.
+TEST(CanConfig, AFileOverTheSettingsLimitIsRefusedAtOnce) {
+  const std::string text = "motors:\n  - id: 0x141\n    joint: knee\n    protocol: linear\n    position: {byte: 0, width: 2, scale: " +
+                           std::string(1500000, ',') + "0.001}\n";
+  std::string message;
+  double seconds = testing::SecondsOf([&] {
+    try {
+      ParseCanConfig(text, "motors.yaml");
+    } catch (const std::invalid_argument& e) {
+      message = e.what();
+    }
+  });
+  EXPECT_EQ(message, "motors.yaml: the motor configuration is " + std::to_string(text.size()) + " bytes, over its limit of 64 KiB: refused before parsing");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  const std::string path = testing::WriteUniqueTempFile("motors.yaml", text);
+  message.clear();
+  seconds = testing::SecondsOf([&] {
+    try {
+      LoadCanConfig(path);
+    } catch (const std::invalid_argument& e) {
+      message = e.what();
+    }
+  });
+  EXPECT_EQ(message, path + ": the motor configuration is " + std::to_string(text.size()) + " bytes, over its limit of 64 KiB: refused before parsing");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  std::filesystem::remove(path);
+  // Below the limit the commas are yaml-cpp's to refuse, as before.
+  EXPECT_THROW(ParseCanConfig("motors:\n  - {id: 1, joint: a, position: {scale: " + std::string(1000, ',') + "1}}\n", "m.yaml"),
+               std::invalid_argument);
+  EXPECT_LE(std::string(1000, ',').size(), kMaxSettingsFileBytes);
 }
 
 }  // namespace

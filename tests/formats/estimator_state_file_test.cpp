@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
 #include "inertial/estimation/online_body_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
+#include "inertial/formats/input_file.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 #include "formats/urdf_text.hpp"
 
@@ -76,12 +78,69 @@ TEST(EstimatorStateFile, MalformedFilesAreNamed) {
   expect_error(head + "\"x\": [1e400], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {}}",
                "not an estimator state");
   expect_error(head + "\"x\": [1], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {\"accepted\": -3}}",
-               "counter \"accepted\" is -3");
+               "counter \"accepted\" is -3, not an integer from 0 to 18446744073709551615");
   expect_error(head + "\"x\": [1], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {\"accepted\": 2.5}}",
-               "not a non-negative integer");
+               "counter \"accepted\" is 2.5, not an integer");
+  expect_error(head + "\"x\": [1], \"P\": [], \"has_time\": false, \"last_time\": 0, \"counters\": {\"accepted\": 1e300}}",
+               "counter \"accepted\" is 1e+300, not an integer");
   EXPECT_THROW(LoadEstimatorState("/nonexistent/state.json"), StateFileError);
   EXPECT_THROW(SaveEstimatorState("/nonexistent/dir/state.json", EstimatorState(), ""), StateFileError);
 }
+
+// Issue 35: a version read by get<int>() was undefined behaviour for 1e308 ("version -2147483648")
+// and truncated 1.9 to 1, accepting the file. Versions are integers checked before any conversion.
+TEST(EstimatorStateFile, AVersionThatIsNotAnIntegerInRangeIsRefusedAsWritten) {
+  const std::string path = testing::TempUrdfPath("version.json").string();
+  auto error_of = [&](const std::string& text) -> std::string {
+    testing::WriteTextFile(path, text);
+    try {
+      LoadEstimatorState(path);
+    } catch (const StateFileError& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "accepted: " << text;
+    return "";
+  };
+  EXPECT_EQ(error_of(R"({"format": "inertial-estimator-state", "version": 1e308})"),
+            path + ": \"version\" is 1e+308, not an integer from 1 to 1000000");
+  // A whole checkpoint, good but for its version.
+  OnlineBodyEstimator a(SolidSphere(1.0, 0.05));
+  for (int k = 0; k < 20; ++k) a.Update(Sample(k));
+  std::string good = EstimatorStateToJson(a.estimator().State(), "one body");
+  const std::string version = "\"version\":1";
+  ASSERT_NE(good.find(version), std::string::npos) << good.substr(0, 200);
+  for (const auto& [written, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"1.9", "is 1.9, not an integer"}, {"-1", "is -1, not an integer"}, {"\"1\"", "is \"1\", not an integer"},
+           {"true", "is true, not an integer"}, {"2", "estimator state version 2, this program reads version 1"}}) {
+    std::string text = good;
+    text.replace(text.find(version), version.size(), "\"version\":" + written);
+    const std::string message = error_of(text);
+    EXPECT_NE(message.find(expected), std::string::npos) << written << ": " << message;
+  }
+  // 1.0 is the integer 1 (JSON does not tell them apart): the state loads.
+  std::string one = good;
+  one.replace(one.find(version), version.size(), "\"version\":1.0");
+  testing::WriteTextFile(path, one);
+  EXPECT_EQ(LoadEstimatorState(path).x, a.estimator().parameters());
+  std::filesystem::remove(path);
+}
+
+TEST(EstimatorStateFile, AFileOverTheSizeLimitIsRefusedBeforeParsing) {
+  const std::string path = testing::TempUrdfPath("huge.json").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    out.seekp(static_cast<std::streamoff>(kMaxStateFileBytes));  // a sparse file one byte over the limit
+    out.put(' ');
+  }
+  try {
+    LoadEstimatorState(path);
+    ADD_FAILURE() << "accepted";
+  } catch (const StateFileError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": the estimator state is 268435457 bytes, over its limit of 256 MiB: refused before parsing");
+  }
+  std::filesystem::remove(path);
+}
+
 
 // States that would wedge the estimator (every later sample refused, the bad state written back at
 // every checkpoint) are refused by Restore with the reason, and the estimator is left as it was.

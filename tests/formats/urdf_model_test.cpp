@@ -1,4 +1,5 @@
 #include "inertial/formats/urdf_model.hpp"
+#include "inertial/formats/input_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -432,6 +433,127 @@ TEST(UrdfModelErrors, FileErrorsStartWithThePath) {
   EXPECT_EQ(message.rfind(path.string() + ": joint 'j' is floating", 0), 0u) << message;
 }
 
+// --- input limits (issue 35): what a blind fuzzer found, each refused at once ---
+
+// The one-joint robot's text without its XML declaration.
+std::string RobotElementOnly() {
+  std::string xml = OneJointRobot("continuous");
+  return xml.substr(xml.find("<robot"));
+}
+
+// "<?xml " then 100,000 nested elements, then "?>" and a valid robot: tinyxml2 saw one declaration
+// node, urdfdom's TinyXML recursed once per level and overflowed the stack (SIGSEGV after 7-13 s).
+TEST(UrdfModelInputLimits, ElementsInsideABrokenXmlDeclarationAreRefusedAtOnce) {
+  std::string xml = "<?xml ";
+  for (int k = 0; k < 100000; ++k) xml += "<a>";
+  xml += "?>" + RobotElementOnly();
+  std::string message;
+  const double seconds = testing::SecondsOf([&] { message = ErrorOf([&] { ParseUrdf(xml, "deep.urdf"); }); });
+  EXPECT_EQ(message,
+            "deep.urdf: is not a valid URDF: the processing instruction at line 1 is not an XML declaration "
+            "(<?xml version=\"1.0\" encoding=\"...\"?>, first in the file)");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+}
+
+TEST(UrdfModelInputLimits, ElementsInsideAProcessingInstructionAnywhereAreRefused) {
+  std::string inner;
+  for (int k = 0; k < 100000; ++k) inner += "<a>";
+  // Before the root: tinyxml2 reads it as one node, refused here.
+  std::string message;
+  double seconds = testing::SecondsOf([&] { message = ErrorOf([&] { ParseUrdf("<?pi " + inner + "?>" + RobotElementOnly(), "pi.urdf"); }); });
+  EXPECT_EQ(message, "pi.urdf: is not a valid URDF: the processing instruction at line 1 holds a '<' (an element inside \"<?...?>\")");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  // Inside <robot>: tinyxml2 refuses any "<?...?>".
+  std::string xml = RobotElementOnly();
+  xml.insert(xml.find('>') + 1, "<?pi " + inner + "?>");
+  seconds = testing::SecondsOf([&] { message = ErrorOf([&] { ParseUrdf(xml, "pi.urdf"); }); });
+  EXPECT_EQ(message.rfind("pi.urdf: is not a valid URDF: XML error at line 1: XML_ERROR_PARSING_DECLARATION", 0), 0u) << message;
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  // A second XML declaration is not one, nor is one of another grammar.
+  EXPECT_NE(ErrorOf([&] { ParseUrdf("<?xml version=\"1.0\"?>\n<?xml version=\"1.0\"?>" + RobotElementOnly(), "two.urdf"); })
+                .find("line 2 is not an XML declaration"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ParseUrdf("<?xml version=\"1.0\" encoding=\"utf 8\"?>" + RobotElementOnly(), "enc.urdf"); })
+                .find("line 1 is not an XML declaration"),
+            std::string::npos);
+}
+
+TEST(UrdfModelInputLimits, PlainDeepNestingIsRefusedByDepth) {
+  std::string inner;
+  for (int k = 0; k < 100000; ++k) inner += "<a>";
+  std::string xml = RobotElementOnly();
+  xml.insert(xml.find('>') + 1, inner);
+  std::string message;
+  const double seconds = testing::SecondsOf([&] { message = ErrorOf([&] { ParseUrdf(xml, "nest.urdf"); }); });
+  EXPECT_EQ(message.rfind("nest.urdf: is not a valid URDF: XML error at line 1: XML_ELEMENT_DEPTH_EXCEEDED", 0), 0u) << message;
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+}
+
+// Declarations, instructions, comments and a DOCTYPE as real files have them leave the model as it is.
+TEST(UrdfModelInputLimits, WellFormedDeclarationsCommentsAndDoctypeAreRead) {
+  const RobotModel plain = ParseUrdf(RobotElementOnly(), "plain.urdf");
+  for (const std::string& head :
+       {std::string("<?xml version='1.0' encoding='UTF-8' standalone=\"yes\" ?>\n"),
+        std::string("<?xml version=\"1.1\"?><?xml-stylesheet type=\"text/xsl\" href=\"r.xsl\"?><!DOCTYPE robot>\n<!-- <a> -->")}) {
+    std::string xml = head + RobotElementOnly();
+    xml.insert(xml.find("<link"), "<!-- a comment with <link name=\"fake\"/> in it -->");
+    const RobotModel model = ParseUrdf(xml, "declared.urdf");
+    EXPECT_EQ(model.dof_names, plain.dof_names) << head;
+    EXPECT_EQ(model.links.size(), plain.links.size()) << head;
+    EXPECT_EQ(model.tree.inertia(0).vector(), plain.tree.inertia(0).vector()) << head;
+  }
+}
+
+// Positions and sizes beyond any robot (kMaxUrdfLength, 1000 m) are refused where they are written.
+TEST(UrdfModelInputLimits, LengthsBeyondAnyRobotAreRefusedNamingTheElement) {
+  const std::string inertial = InertialXml(1.0, Vector3::Zero(), Vector3::Zero(), kSomeInertia);
+  const struct {
+    std::string b_inside, joint_origin, expected;
+  } cases[] = {
+      {inertial, "0 0 1e300", "joint 'j': <origin> (line 5): attribute 'xyz' holds 1e+300 m, beyond the 1000 m of any robot"},
+      {inertial, "-1000.5 0 0", "joint 'j': <origin> (line 5): attribute 'xyz' holds -1000.5 m"},
+      {InertialXml(1.0, Vector3(0, 2000, 0), Vector3::Zero(), kSomeInertia), "0 0 0", "link 'b': <origin> (line"},
+      {"<visual><geometry><box size=\"0.1 0.1 1200\"/></geometry></visual>" + inertial, "0 0 0", "link 'b': <box> (line"},
+      {"<collision><geometry><cylinder radius=\"0.05\" length=\"1e4\"/></geometry></collision>" + inertial, "0 0 0",
+       "attribute 'length' holds 10000 m"},
+      {"<visual><geometry><sphere radius=\"-1e5\"/></geometry></visual>" + inertial, "0 0 0", "attribute 'radius' holds -1e+05 m"},
+  };
+  for (const auto& c : cases) {
+    const std::string xml = RobotXml("r", LinkXml("a") + LinkXml("b", c.b_inside) +
+                                              "<joint name=\"j\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/>"
+                                              "<origin xyz=\"" + c.joint_origin + "\"/></joint>");
+    const std::string message = ErrorOf([&] { ParseUrdf(xml, "far.urdf"); });
+    EXPECT_EQ(message.rfind("far.urdf: ", 0), 0u) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+  // 1000 m itself is a length a URDF may state (a joint 1 km away is odd, not impossible to write).
+  const RobotModel far = ParseUrdf(RobotXml("r", LinkXml("a") + LinkXml("b", inertial) +
+                                                     "<joint name=\"j\" type=\"continuous\"><parent link=\"a\"/>"
+                                                     "<child link=\"b\"/><origin xyz=\"0 0 -1000\"/></joint>"),
+                                   "km.urdf");
+  EXPECT_EQ(far.tree.joint(0).p_parent_joint, Vector3(0, 0, -1000));
+}
+
+TEST(UrdfModelInputLimits, FilesAndTextOverTheSizeLimitAreRefusedBeforeParsing) {
+  // A valid robot padded with a comment to one byte over kMaxUrdfBytes.
+  std::string xml = OneJointRobot("continuous");
+  xml += "<!--" + std::string(kMaxUrdfBytes - xml.size() - 7 + 1, 'x') + "-->";
+  ASSERT_EQ(xml.size(), kMaxUrdfBytes + 1);
+  const std::string expected = "big.urdf: the URDF is 16777217 bytes, over its limit of 16 MiB: refused before parsing";
+  EXPECT_EQ(ErrorOf([&] { ParseUrdf(xml, "big.urdf"); }), expected);
+  const std::filesystem::path path = testing::TempUrdfPath("big.urdf");
+  testing::WriteTextFile(path, xml);
+  std::string message;
+  const double seconds = testing::SecondsOf([&] { message = ErrorOf([&] { LoadUrdf(path.string()); }); });
+  EXPECT_EQ(message, path.string() + ": the URDF is 16777217 bytes, over its limit of 16 MiB: refused before parsing");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  // One byte less is read.
+  xml.erase(xml.size() - 5, 1);
+  testing::WriteTextFile(path, xml);
+  EXPECT_EQ(LoadUrdf(path.string()).dof_names, std::vector<std::string>{"j"});
+  std::filesystem::remove(path);
+}
+
 // --- joint limits ---
 
 // The one-joint robot with `limit` in place of the helper's <limit lower="-3" upper="3" ...>.
@@ -476,7 +598,7 @@ TEST(UrdfModelLimits, RefusesAnEmptyRangeNegativeBoundsAndBadNumbers) {
                 .find("r.urdf: joint 'j': <limit> velocity and effort must be >= 0"),
             std::string::npos);
   const std::string bad = ErrorOf([] { ParseUrdf(WithLimit("revolute", "<limit lower=\"-1\" upper=\"1x\" effort=\"5\" velocity=\"1\"/>"), "r.urdf"); });
-  EXPECT_EQ(bad.rfind("r.urdf: <limit> (line 5): attribute 'upper'", 0), 0u) << bad;  // before urdfdom reads it
+  EXPECT_EQ(bad.rfind("r.urdf: joint 'j': <limit> (line 5): attribute 'upper'", 0), 0u) << bad;  // before urdfdom reads it
   EXPECT_NE(bad.find("upper"), std::string::npos) << bad;
 }
 

@@ -1,22 +1,17 @@
-// Fuzz harness: inertiald's --config JSON (estimation_daemon.hpp) as main() reads it: parsed, then
+// Fuzz harness: inertiald's --config JSON (estimation_daemon.hpp) as main() reads it: size-checked, parsed, then
 // applied to the options; an accepted message format must then build the leg's decoder or be
 // refused by name, as the daemon's start does.
 #include "fuzz_support.hpp"
+#include "inertial/config/daemon_config_file.hpp"
 #include "inertial/runtime/estimation_daemon.hpp"
 #include "inertial/transport/joint_message.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;
-  nlohmann::json config;
-  try {
-    config = nlohmann::json::parse(fuzz::Text(data, size));
-  } catch (const nlohmann::json::exception&) {
-    return 0;
-  }
   DaemonOptions options;
   try {
-    ApplyDaemonConfig(config, &options);
-  } catch (const std::invalid_argument&) {
+    ApplyDaemonConfigText(fuzz::Text(data, size), "fuzz.json", &options);
+  } catch (const DaemonConfigFileError&) {
     return 0;
   }
   try {

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       "inertiald: online, physically consistent inertia estimation beside the controller. Subscribes to joint-state "
       "messages on LCM (inertial.joint_state_t, or the user's own type described in --config), runs the recursive "
       "estimator on every sample and publishes inertial.estimate_t. Exit codes: 0 ok, 1 LCM failure, 2 usage, "
-      "5 a file error (model, config, motors.yaml: unreadable or not valid)."};
+      "5 a file error (model, config, motors.yaml, checkpoint: unreadable, too large or not valid)."};
   inertial::DaemonRequest request;
   AddDaemonOptions(app, &request);
   app.name("inertiald");

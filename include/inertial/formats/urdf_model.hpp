@@ -52,6 +52,10 @@
 /// <dynamics> values of other tools' URDFs are often simulator settings, so they are not fitted
 /// unless asked for with --effects). Every number is parsed strictly (a finite decimal).
 ///
+/// Limits (refused before urdfdom sees the file): a file over kMaxUrdfBytes (input_file.hpp); nesting
+/// deeper than 100 elements (tinyxml2's limit); a position or a shape size (origin xyz, box, cylinder,
+/// sphere, capsule) beyond kMaxUrdfLength.
+///
 /// Errors (UrdfError) start with the file path (or the source name given to ParseUrdf), e.g.
 /// "robot.urdf: link 'thigh': <inertial> is not physically consistent: triangle inequality ...".
 /// Not supported (errors): floating and planar joints, joints with `<mimic>`.
@@ -71,6 +75,11 @@
 #include "inertial/model/kinematic_tree.hpp"
 
 namespace inertial {
+
+/// The largest length a URDF may state [m], a position or a shape's size. The largest machines
+/// described by URDFs (cranes, excavators, telescope mounts) have links of tens of metres; 1000 m is
+/// beyond any robot, while a model written in millimetres (a 1.2 m link as 1200) is caught.
+inline constexpr double kMaxUrdfLength = 1e3;
 
 /// A URDF that cannot be read, parsed or used. The message starts with the file path.
 struct UrdfError : std::runtime_error {
@@ -132,5 +141,9 @@ RobotModel LoadUrdf(const std::string& path, const UrdfLoadOptions& options = {}
 /// Loads URDF text; `source_name` starts every error message (a path, or e.g. "<string>").
 /// @throws UrdfError (see the file comment).
 RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, const UrdfLoadOptions& options = {});
+
+/// The text of the URDF file at `path` (at most kMaxUrdfBytes). @throws UrdfError if it cannot be
+/// read or is larger.
+std::string ReadUrdfFile(const std::string& path);
 
 }  // namespace inertial

@@ -55,8 +55,9 @@ struct DaemonCounters {
 
 class EstimationDaemon {
  public:
-  /// A robot from joint states. @throws std::invalid_argument on bad options, std::runtime_error if
-  /// LCM cannot start.
+  /// A robot from joint states. @throws std::invalid_argument on bad options, StateFileError
+  /// (estimator_state_file.hpp) if options.checkpoint names a file that cannot be restored or a place
+  /// that cannot take one, std::runtime_error if LCM cannot start.
   EstimationDaemon(RobotDynamics model, DaemonOptions options);
   /// One body from inertial.body_wrench_t messages (options.format unused), starting at `prior`.
   EstimationDaemon(const InertialParams& prior, DaemonOptions options);
