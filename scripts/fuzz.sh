@@ -11,10 +11,13 @@
 # tracing also records pointer values. CI uses that.
 #
 # What each harness is given (issue 35): the text formats a -max_len far above libFuzzer's default
-# of 4096 bytes (which can hold neither 100,000 levels of nesting nor a million commas): 1 MiB, and
-# for the settings files (limit 64 KiB, input_file.hpp) 128 KiB, both sides of the limit; a
-# dictionary of the format's structure, nesting and separators (tests/fuzz/dict/); large seeds. The
-# binary LCM formats keep the default (their lengths are fields, which the corpus and mutations reach).
+# of 4096 bytes (which can hold neither 100,000 levels of nesting nor a million commas): 1 MiB for
+# URDFs, checkpoints and CSV logs; 256 KiB for candump logs (a replayed frame costs an estimator
+# update); a little over the settings limit (64 KiB, input_file.hpp) for the settings files, so both
+# sides of it are reached (72 KiB for motors.yaml, whose parser costs about 4 us a token; 128 KiB
+# for the JSON config); a dictionary of the format's structure, nesting and separators
+# (tests/fuzz/dict/); large seeds. The binary LCM formats keep the default (their lengths are
+# fields, which the corpus and mutations reach).
 # -timeout=10: a slow input is a finding. The slowest honest input of any harness takes well under a
 # second under the sanitizers (the 1 MiB logs, checkpoints and URDFs are parsed in linear time), and
 # the slow inputs issue 35 found took 2-10 s without sanitizers; 10 s leaves room for a loaded machine.
@@ -44,10 +47,11 @@ tests/fuzz/large_seeds.sh "$seeds"
 options_of() {
   case "$1" in
     urdf) echo "-max_len=1048576 -dict=tests/fuzz/dict/urdf.dict" ;;
-    motors_yaml) echo "-max_len=131072 -dict=tests/fuzz/dict/yaml.dict" ;;
+    motors_yaml) echo "-max_len=73728 -dict=tests/fuzz/dict/yaml.dict" ;;
     daemon_config) echo "-max_len=131072 -dict=tests/fuzz/dict/json.dict" ;;
     checkpoint) echo "-max_len=1048576 -dict=tests/fuzz/dict/json.dict" ;;
-    joint_csv | body_csv | candump) echo "-max_len=1048576 -dict=tests/fuzz/dict/csv.dict" ;;
+    joint_csv | body_csv) echo "-max_len=1048576 -dict=tests/fuzz/dict/csv.dict" ;;
+    candump) echo "-max_len=262144 -dict=tests/fuzz/dict/csv.dict" ;;
     *) echo "" ;;
   esac
 }

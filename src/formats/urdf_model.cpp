@@ -7,13 +7,14 @@
 #include <Eigen/Geometry>
 #include <cerrno>
 #include <cmath>
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
-#include <regex>
+#include <functional>
 
 #include "inertial/formats/input_file.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -205,10 +206,54 @@ void CheckJointGraph(const tinyxml2::XMLElement& robot, const std::string& sourc
 // must have its grammar (XML 1.0, production 23), and no other processing instruction may hold a
 // '<': "<?xml " with 100,000 nested elements before its "?>" is one node to tinyxml2 and 100,000
 // elements to other XML readers (issue 35).
+// The text of an XML declaration between "<?" and "?>" by XML 1.0's production 23:
+// xml S version="1.x" [S encoding="Name"] [S standalone="yes|no"] [S], either quote. A scan, not a
+// std::regex: libstdc++'s regex recurses once per character and overflowed the stack on a long
+// declaration (found by tests/fuzz/urdf_fuzz.cpp).
+bool IsXmlDeclaration(const std::string& text) {
+  std::size_t at = 0;
+  const auto space = [&] {
+    const std::size_t from = at;
+    while (at < text.size() && (text[at] == ' ' || text[at] == '\t' || text[at] == '\r' || text[at] == '\n')) ++at;
+    return at > from;
+  };
+  // S name S? = S? quoted value, the value checked by `valid`.
+  const auto attribute = [&](const std::string& name, const std::function<bool(const std::string&)>& valid) {
+    const std::size_t from = at;
+    if (!space() || text.compare(at, name.size(), name) != 0) {
+      at = from;
+      return false;
+    }
+    at += name.size();
+    space();
+    if (at >= text.size() || text[at] != '=') return at = from, false;
+    ++at;
+    space();
+    if (at >= text.size() || (text[at] != '"' && text[at] != '\'')) return at = from, false;
+    const std::size_t close = text.find(text[at], at + 1);
+    if (close == std::string::npos || !valid(text.substr(at + 1, close - at - 1))) return at = from, false;
+    at = close + 1;
+    return true;
+  };
+  const auto version = [](const std::string& v) {
+    return v.size() > 2 && v.compare(0, 2, "1.") == 0 &&
+           std::all_of(v.begin() + 2, v.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  const auto encoding = [](const std::string& v) {
+    return !v.empty() && std::isalpha(static_cast<unsigned char>(v[0])) &&
+           std::all_of(v.begin(), v.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'; });
+  };
+  const auto standalone = [](const std::string& v) { return v == "yes" || v == "no"; };
+  if (text.compare(0, 3, "xml") != 0) return false;
+  at = 3;
+  if (!attribute("version", version)) return false;
+  attribute("encoding", encoding);
+  attribute("standalone", standalone);
+  space();
+  return at == text.size();
+}
+
 void CheckDeclarations(const tinyxml2::XMLDocument& doc, const std::string& source) {
-  static const std::regex kXmlDeclaration(
-      R"re(xml\s+version\s*=\s*("1\.[0-9]+"|'1\.[0-9]+')(\s+encoding\s*=\s*("[A-Za-z][A-Za-z0-9._-]*"|'[A-Za-z][A-Za-z0-9._-]*'))?)re"
-      R"re((\s+standalone\s*=\s*("(yes|no)"|'(yes|no)'))?\s*)re");
   for (const tinyxml2::XMLNode* n = doc.FirstChild(); n != nullptr; n = n->NextSibling()) {
     const tinyxml2::XMLDeclaration* d = n->ToDeclaration();
     if (d == nullptr) continue;
@@ -216,7 +261,7 @@ void CheckDeclarations(const tinyxml2::XMLDocument& doc, const std::string& sour
     const std::string where =
         source + ": is not a valid URDF: the processing instruction at line " + std::to_string(d->GetLineNum());
     const bool xml = text.compare(0, 3, "xml") == 0 && (text.size() == 3 || std::isspace(static_cast<unsigned char>(text[3])));
-    if (xml && (n != doc.FirstChild() || !std::regex_match(text, kXmlDeclaration))) {
+    if (xml && (n != doc.FirstChild() || !IsXmlDeclaration(text))) {
       throw UrdfError(where + " is not an XML declaration (<?xml version=\"1.0\" encoding=\"...\"?>, first in the file)");
     }
     if (text.find('<') != std::string::npos) throw UrdfError(where + " holds a '<' (an element inside \"<?...?>\")");

@@ -502,6 +502,13 @@ TEST(UrdfModelInputLimits, WellFormedDeclarationsCommentsAndDoctypeAreRead) {
     EXPECT_EQ(model.links.size(), plain.links.size()) << head;
     EXPECT_EQ(model.tree.inertia(0).vector(), plain.tree.inertia(0).vector()) << head;
   }
+  // A version of 100,000 digits is a version by the grammar; its check must not recurse per
+  // character (a std::regex did, and overflowed the stack: tests/fuzz/corpus/urdf/long_xml_version_*).
+  const std::string long_version = "<?xml version=\"1." + std::string(100000, '0') + "\"?>";
+  EXPECT_EQ(ParseUrdf(long_version + RobotElementOnly(), "long.urdf").dof_names, plain.dof_names);
+  EXPECT_NE(ErrorOf([&] { ParseUrdf(long_version.substr(0, 50000) + "x\"?>" + RobotElementOnly(), "long.urdf"); })
+                .find("is not an XML declaration"),
+            std::string::npos);
 }
 
 // Positions and sizes beyond any robot (kMaxUrdfLength, 1000 m) are refused where they are written.
