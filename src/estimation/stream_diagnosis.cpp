@@ -21,8 +21,8 @@ StreamDiagnosisOptions StreamDiagnosisOptionsFor(const RobotDynamics& model, con
 }
 
 StreamDiagnosis::StreamDiagnosis(const RobotDynamics& model, const StreamDiagnosisOptions& options)
-    : diagnosis_(model, options.diagnosis), options_(options), workspace_(model.MakeWorkspace()),
-      features_(Eigen::MatrixXd::Zero(model.num_dofs(), model.num_features())) {
+    : diagnosis_(model, options.diagnosis), workspace_(model.MakeWorkspace()),
+      features_(Eigen::MatrixXd::Zero(model.num_dofs(), model.num_features())), options_(options) {
   if (options.capacity < 1 || options.excitation_decimation < 1) {
     throw std::invalid_argument("stream diagnosis: the ring's capacity and the excitation's decimation must be at least 1");
   }

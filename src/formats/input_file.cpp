@@ -1,5 +1,6 @@
 #include "inertial/formats/input_file.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
@@ -36,7 +37,10 @@ std::string ReadInputFile(const std::string& path, const std::string& what, std:
   }
   std::string text;
   char chunk[1 << 16];
-  while (text.size() <= max_bytes && in.read(chunk, sizeof chunk).gcount() > 0) {
+  // At most max_bytes + 1 bytes: the one over the limit tells a file that is too large.
+  while (text.size() <= max_bytes) {
+    const std::size_t want = std::min(sizeof chunk, max_bytes + 1 - text.size());
+    if (in.read(chunk, static_cast<std::streamsize>(want)).gcount() <= 0) break;
     text.append(chunk, static_cast<std::size_t>(in.gcount()));
   }
   if (in.bad()) throw InputFileError(InputFileError::Reason::kUnreadable, CannotText("read", what, path));

@@ -5,49 +5,63 @@
 namespace inertial {
 namespace {
 
-// A whole, finite double in [lo, hi], compared as doubles before any cast. A bound near 2^63 or 2^64
-// rounds up when made a double, so the callers also refuse 2^63 (2^64) and above themselves.
-bool WholeWithin(double v, double lo, double hi) { return std::isfinite(v) && v == std::trunc(v) && v >= lo && v <= hi; }
+// A JSON float that is a whole number within the range of int64 (or uint64), as that integer: the
+// double is compared with the type's bounds as doubles (2^63 and 2^64 are exact) before the cast,
+// and the caller compares the integer with its own bounds.
+std::optional<std::int64_t> WholeInt64(double v) {
+  if (!std::isfinite(v) || v != std::trunc(v) || v < -9223372036854775808.0 || v >= 9223372036854775808.0) return std::nullopt;
+  return static_cast<std::int64_t>(v);
+}
+
+std::optional<std::uint64_t> WholeUint64(double v) {
+  if (!std::isfinite(v) || v != std::trunc(v) || v < 0.0 || v >= 18446744073709551616.0) return std::nullopt;
+  return static_cast<std::uint64_t>(v);
+}
 
 }  // namespace
 
 std::optional<std::int64_t> JsonInteger(const nlohmann::json& value, std::int64_t lo, std::int64_t hi) {
+  std::optional<std::int64_t> v;
   if (value.is_number_unsigned()) {
-    const std::uint64_t v = value.get<std::uint64_t>();
-    if (hi < 0 || v > static_cast<std::uint64_t>(hi) || (lo > 0 && v < static_cast<std::uint64_t>(lo))) return std::nullopt;
-    return static_cast<std::int64_t>(v);
+    const std::uint64_t u = value.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(INT64_MAX)) v = static_cast<std::int64_t>(u);
+  } else if (value.is_number_integer()) {
+    v = value.get<std::int64_t>();
+  } else if (value.is_number_float()) {
+    v = WholeInt64(value.get<double>());
   }
-  if (value.is_number_integer()) {
-    const std::int64_t v = value.get<std::int64_t>();
-    if (v < lo || v > hi) return std::nullopt;
-    return v;
-  }
-  if (value.is_number_float()) {
-    const double v = value.get<double>();
-    if (!WholeWithin(v, static_cast<double>(lo), static_cast<double>(hi)) || v >= 9223372036854775808.0) return std::nullopt;
-    return static_cast<std::int64_t>(v);
-  }
-  return std::nullopt;
+  if (!v || *v < lo || *v > hi) return std::nullopt;
+  return v;
 }
 
 std::optional<std::uint64_t> JsonUnsigned(const nlohmann::json& value, std::uint64_t hi) {
+  std::optional<std::uint64_t> v;
   if (value.is_number_unsigned()) {
-    const std::uint64_t v = value.get<std::uint64_t>();
-    if (v > hi) return std::nullopt;
-    return v;
+    v = value.get<std::uint64_t>();
+  } else if (value.is_number_integer()) {  // signed: negative, or -0
+    const std::int64_t i = value.get<std::int64_t>();
+    if (i >= 0) v = static_cast<std::uint64_t>(i);
+  } else if (value.is_number_float()) {
+    v = WholeUint64(value.get<double>());
   }
-  if (value.is_number_integer()) return std::nullopt;  // a negative integer (non-negative ones are unsigned)
-  if (value.is_number_float()) {
-    const double v = value.get<double>();
-    if (!WholeWithin(v, 0.0, static_cast<double>(hi)) || v >= 18446744073709551616.0) return std::nullopt;
-    return static_cast<std::uint64_t>(v);
-  }
-  return std::nullopt;
+  if (!v || *v > hi) return std::nullopt;
+  return v;
 }
 
 std::string NotAnIntegerText(const nlohmann::json& value, std::int64_t lo, std::uint64_t hi) {
-  std::string written = value.dump();
-  if (written.size() > 40) written = written.substr(0, 37) + "...";
+  // Scalars as written (strings clipped before they are written); arrays and objects by kind:
+  // writing one out recurses once per level of nesting.
+  std::string written;
+  if (value.is_array()) {
+    written = "an array";
+  } else if (value.is_object()) {
+    written = "an object";
+  } else if (value.is_string()) {
+    const std::string& s = value.get_ref<const std::string&>();
+    written = nlohmann::json(s.substr(0, 40)).dump() + (s.size() > 40 ? "..." : "");
+  } else {
+    written = value.dump();
+  }
   return "is " + written + ", not an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
 }
 

@@ -114,13 +114,17 @@ std::string Shortest(double x) {
   return std::string(text, r.ptr);
 }
 
-// The attributes that are lengths [m]: positions of frames (origins of joints, of COMs, of visuals
-// and collisions) and sizes of shapes.
-bool IsLength(const std::string& element, const std::string& attribute) {
-  if (element == "origin") return attribute == "xyz";
-  if (element == "box") return attribute == "size";
-  if (element == "cylinder" || element == "capsule") return attribute == "radius" || attribute == "length";
-  return element == "sphere" && attribute == "radius";
+// The unit of the attributes bounded by kMaxUrdfLength: positions of frames (origins of joints, of
+// COMs, of visuals and collisions) and sizes of shapes [m], and joint limits [m or rad]; nullptr
+// for the others.
+const char* BoundedUnit(const std::string& element, const std::string& attribute) {
+  if ((element == "origin" && attribute == "xyz") || (element == "box" && attribute == "size") ||
+      ((element == "cylinder" || element == "capsule") && (attribute == "radius" || attribute == "length")) ||
+      (element == "sphere" && attribute == "radius")) {
+    return "m";
+  }
+  if (element == "limit" && (attribute == "lower" || attribute == "upper")) return "m or rad";
+  return nullptr;
 }
 
 // Checks the subtree of an element urdfdom reads before urdfdom sees it: urdfdom (through
@@ -151,11 +155,11 @@ void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source
       throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + std::to_string(numbers.size()) +
                       " numbers, " + std::to_string(count->second) + " expected");
     }
-    if (IsLength(e.Name(), a->Name())) {
+    if (const char* unit = BoundedUnit(e.Name(), a->Name())) {
       for (const double x : numbers) {
         if (std::abs(x) > kMaxUrdfLength) {
-          throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + Shortest(x) + " m, beyond the " +
-                          Shortest(kMaxUrdfLength) + " m of any robot (a length in millimetres?)");
+          throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + Shortest(x) + " " + unit + ", beyond the " +
+                          Shortest(kMaxUrdfLength) + " " + unit + " of any robot (a length in millimetres?)");
         }
       }
     }
@@ -277,10 +281,60 @@ class UrdfdomPrinter : public tinyxml2::XMLPrinter {
   bool Visit(const tinyxml2::XMLUnknown&) override { return true; }
 };
 
+// The first tag with more than kMaxUrdfAttributes '=' outside quoted values (each attribute needs
+// one), found by a scan of the text before any XML parser runs; its line, or 0 if none. Comments,
+// CDATA sections, declarations and "<!...>" are skipped as XML readers skip them.
+int LineOfTagWithTooManyAttributes(const std::string& xml) {
+  int line = 1;
+  std::size_t at = 0;
+  const auto skip_to = [&](const char* end) {
+    const std::size_t found = xml.find(end, at);
+    const std::size_t stop = found == std::string::npos ? xml.size() : found + std::strlen(end);
+    line += static_cast<int>(std::count(xml.begin() + static_cast<std::ptrdiff_t>(at), xml.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+    at = stop;
+  };
+  while (at < xml.size()) {
+    if (xml[at] != '<') {
+      if (xml[at] == '\n') ++line;
+      ++at;
+      continue;
+    }
+    if (xml.compare(at, 4, "<!--") == 0) {
+      skip_to("-->");
+    } else if (xml.compare(at, 9, "<![CDATA[") == 0) {
+      skip_to("]]>");
+    } else if (xml.compare(at, 2, "<?") == 0) {
+      skip_to("?>");
+    } else if (xml.compare(at, 2, "<!") == 0) {
+      skip_to(">");
+    } else {
+      const int tag_line = line;
+      int equals = 0;
+      char quote = 0;
+      for (++at; at < xml.size() && (quote != 0 || xml[at] != '>'); ++at) {
+        const char c = xml[at];
+        if (c == '\n') ++line;
+        if (quote != 0) {
+          if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+          quote = c;
+        } else if (c == '=' && ++equals > kMaxUrdfAttributes) {
+          return tag_line;
+        }
+      }
+    }
+  }
+  return 0;
+}
+
 // Parses and checks the URDF with tinyxml2 into *doc and returns its <robot>. tinyxml2 refuses
 // nesting deeper than TINYXML2_MAX_ELEMENT_DEPTH (100) levels, which no URDF needs.
 const tinyxml2::XMLElement& ParseRobotXml(const std::string& xml, const std::string& source, tinyxml2::XMLDocument* doc) {
   if (xml.size() > kMaxUrdfBytes) throw UrdfError(TooLargeText(source, "URDF", xml.size(), kMaxUrdfBytes));
+  if (const int line = LineOfTagWithTooManyAttributes(xml)) {
+    throw UrdfError(source + ": is not a valid URDF: the tag at line " + std::to_string(line) + " has more than " +
+                    std::to_string(kMaxUrdfAttributes) + " attributes");
+  }
   if (doc->Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
     throw UrdfError(source + ": is not a valid URDF: " + detail::DescribeXmlError(*doc));
   }
@@ -295,6 +349,15 @@ const tinyxml2::XMLElement& ParseRobotXml(const std::string& xml, const std::str
     if (std::string(a->Value()).find('%') != std::string::npos) {
       throw UrdfError(source + ": <robot> attribute '" + a->Name() + "' holds a '%', which no URDF value needs");
     }
+  }
+  int links = 0, joints = 0;
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    links += std::strcmp(e->Name(), "link") == 0;
+    joints += std::strcmp(e->Name(), "joint") == 0;
+  }
+  if (links > kMaxUrdfLinks || joints > kMaxUrdfLinks) {
+    throw UrdfError(source + ": has " + std::to_string(links) + " links and " + std::to_string(joints) +
+                    " joints, more than the " + std::to_string(kMaxUrdfLinks) + " of any robot");
   }
   for (const tinyxml2::XMLElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string name = e->Name();

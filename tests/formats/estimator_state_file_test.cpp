@@ -103,6 +103,10 @@ TEST(EstimatorStateFile, AVersionThatIsNotAnIntegerInRangeIsRefusedAsWritten) {
   };
   EXPECT_EQ(error_of(R"({"format": "inertial-estimator-state", "version": 1e308})"),
             path + ": \"version\" is 1e+308, not an integer from 1 to 1000000");
+  // 200,000 nested arrays as the version: named by kind (writing them out overflowed the stack).
+  EXPECT_EQ(error_of(R"({"format": "inertial-estimator-state", "version": )" + std::string(200000, '[') +
+                     std::string(200000, ']') + "}"),
+            path + ": \"version\" is an array, not an integer from 1 to 1000000");
   // A whole checkpoint, good but for its version.
   OnlineBodyEstimator a(SolidSphere(1.0, 0.05));
   for (int k = 0; k < 20; ++k) a.Update(Sample(k));
@@ -136,7 +140,7 @@ TEST(EstimatorStateFile, AFileOverTheSizeLimitIsRefusedBeforeParsing) {
     LoadEstimatorState(path);
     ADD_FAILURE() << "accepted";
   } catch (const StateFileError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": the estimator state is 268435457 bytes, over its limit of 256 MiB: refused before parsing");
+    EXPECT_EQ(std::string(e.what()), path + ": the estimator state is 33554433 bytes, over its limit of 32 MiB: refused before parsing");
   }
   std::filesystem::remove(path);
 }

@@ -52,9 +52,8 @@ TEST(InputFile, LimitsAreWrittenInTheirBinaryUnit) {
 // A device that never ends is read no further than the limit (its size is not known beforehand).
 TEST(InputFile, AnEndlessDeviceIsReadOnlyToTheLimit) {
   if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
-  const std::string message = ErrorOf("/dev/zero", kMaxSettingsFileBytes);
-  EXPECT_EQ(message.rfind("/dev/zero: the thing is at least ", 0), 0u) << message;
-  EXPECT_NE(message.find(" bytes, over its limit of 64 KiB: refused before parsing"), std::string::npos) << message;
+  EXPECT_EQ(ErrorOf("/dev/zero", kMaxSettingsFileBytes),
+            "/dev/zero: the thing is at least 65537 bytes, over its limit of 64 KiB: refused before parsing");
 }
 
 TEST(InputFile, FilesThatCannotBeReadAreNamedWithTheSystemsReason) {

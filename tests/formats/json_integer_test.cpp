@@ -43,13 +43,26 @@ TEST(JsonUnsigned, CountersUpToTheLargest) {
     EXPECT_FALSE(JsonUnsigned(json::parse(text), max)) << text;
   }
   EXPECT_FALSE(JsonUnsigned(json::parse("101"), 100));
+  EXPECT_EQ(JsonUnsigned(json::parse("-0"), max), 0u);  // nlohmann reads -0 as a signed integer
+}
+
+// A bound that is not exact as a double (2^62 - 1 rounds up to 2^62) still bounds whole floats.
+TEST(JsonInteger, BoundsAreComparedAsIntegers) {
+  constexpr std::int64_t hi = (std::int64_t{1} << 62) - 1;
+  EXPECT_FALSE(JsonInteger(json::parse("4.611686018427387904e18"), 0, hi));  // 2^62
+  EXPECT_EQ(JsonInteger(json::parse("4611686018427387903"), 0, hi), hi);
+  EXPECT_FALSE(JsonUnsigned(json::parse("4.611686018427387904e18"), static_cast<std::uint64_t>(hi)));
 }
 
 TEST(JsonInteger, TheRefusalShowsTheValueAsWritten) {
   EXPECT_EQ(NotAnIntegerText(json::parse("1.9"), 1, 100000), "is 1.9, not an integer from 1 to 100000");
   EXPECT_EQ(NotAnIntegerText(json::parse("1e308"), 1, 100000), "is 1e+308, not an integer from 1 to 100000");
   EXPECT_EQ(NotAnIntegerText(json::parse("\"" + std::string(100, 'x') + "\""), 0, 1),
-            "is \"" + std::string(36, 'x') + "..., not an integer from 0 to 1");
+            "is \"" + std::string(40, 'x') + "\"..., not an integer from 0 to 1");
+  // Arrays and objects by their kind: writing 200,000 levels of nesting out overflowed the stack.
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  EXPECT_EQ(NotAnIntegerText(json::parse(deep), 1, 2), "is an array, not an integer from 1 to 2");
+  EXPECT_EQ(NotAnIntegerText(json::parse(R"({"a": 1})"), 1, 2), "is an object, not an integer from 1 to 2");
 }
 
 }  // namespace

@@ -524,6 +524,8 @@ TEST(UrdfModelInputLimits, LengthsBeyondAnyRobotAreRefusedNamingTheElement) {
       {"<collision><geometry><cylinder radius=\"0.05\" length=\"1e4\"/></geometry></collision>" + inertial, "0 0 0",
        "attribute 'length' holds 10000 m"},
       {"<visual><geometry><sphere radius=\"-1e5\"/></geometry></visual>" + inertial, "0 0 0", "attribute 'radius' holds -1e+05 m"},
+      {inertial, "0 0 0\"/><limit lower=\"-1e300\" upper=\"1\" effort=\"1\" velocity=\"1",
+       "joint 'j': <limit> (line 5): attribute 'lower' holds -1e+300 m or rad, beyond the 1000 m or rad of any robot"},
   };
   for (const auto& c : cases) {
     const std::string xml = RobotXml("r", LinkXml("a") + LinkXml("b", c.b_inside) +
@@ -539,6 +541,32 @@ TEST(UrdfModelInputLimits, LengthsBeyondAnyRobotAreRefusedNamingTheElement) {
                                                      "<child link=\"b\"/><origin xyz=\"0 0 -1000\"/></joint>"),
                                    "km.urdf");
   EXPECT_EQ(far.tree.joint(0).p_parent_joint, Vector3(0, 0, -1000));
+}
+
+// Costs that grow faster than the file: attributes per tag (tinyxml2 alone took 8 s for 60,000 on
+// one tag) and links (a chain written children first is placed in their square).
+TEST(UrdfModelInputLimits, TagsWithTooManyAttributesAndRobotsWithTooManyLinksAreRefused) {
+  std::string attributes;
+  for (int k = 0; k < 60000; ++k) attributes += " a" + std::to_string(k) + "=\"\"";
+  std::string xml = RobotElementOnly();
+  xml.insert(xml.find("<link") + 5, attributes);
+  std::string message;
+  const double seconds = testing::SecondsOf([&] { message = ErrorOf([&] { ParseUrdf(xml, "attrs.urdf"); }); });
+  EXPECT_EQ(message, "attrs.urdf: is not a valid URDF: the tag at line 2 has more than 32 attributes");
+  EXPECT_LT(seconds, testing::kPromptSeconds);
+  // '=' inside quoted values, comments, CDATA and declarations are not attributes.
+  xml = RobotElementOnly();
+  xml.insert(xml.find("<link"), "<!-- " + std::string(100, '=') + " --><![CDATA[" + std::string(100, '=') + "]]>");
+  xml.insert(xml.find("<link") + 5, " note=\"" + std::string(100, '=') + "\"");
+  EXPECT_NO_THROW(ParseUrdf(xml, "quoted.urdf"));
+
+  std::string links = LinkXml("l0"), joints;
+  for (int k = 1; k <= kMaxUrdfLinks; ++k) {
+    links += LinkXml("l" + std::to_string(k), InertialXml(1.0, Vector3::Zero(), Vector3::Zero(), kSomeInertia));
+    joints += JointXml("j" + std::to_string(k), "continuous", "l" + std::to_string(k - 1), "l" + std::to_string(k));
+  }
+  EXPECT_EQ(ErrorOf([&] { ParseUrdf(RobotXml("r", links + joints), "many.urdf"); }),
+            "many.urdf: has 2001 links and 2000 joints, more than the 2000 of any robot");
 }
 
 TEST(UrdfModelInputLimits, FilesAndTextOverTheSizeLimitAreRefusedBeforeParsing) {

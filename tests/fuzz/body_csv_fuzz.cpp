@@ -37,6 +37,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const InertialParams body = e.Body();
   if (!body.vector().allFinite()) fuzz::Fail("the body estimate is not finite");
-  if (!CheckConsistency(body, 1e-9).fully_consistent()) fuzz::Fail("the body estimate is not consistent");
+  if (!CheckConsistency(body).fully_consistent()) fuzz::Fail("the body estimate is not consistent");
   return 0;
 }

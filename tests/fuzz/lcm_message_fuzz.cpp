@@ -48,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         e.Update(s);
       }
     }
-    if (!e.Body().vector().allFinite() || !CheckConsistency(e.Body(), 1e-9).fully_consistent()) {
+    if (!e.Body().vector().allFinite() || !CheckConsistency(e.Body()).fully_consistent()) {
       fuzz::Fail("the body estimate is not finite and consistent after body_wrench_t messages");
     }
     return 0;

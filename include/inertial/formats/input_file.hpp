@@ -12,10 +12,12 @@
 ///   limit yaml-cpp's worst case measured here is 0.25 s (commas in a flow mapping).
 /// - URDFs: a link with its visual, collision and inertial elements takes 1-2 KiB, so a 1000-link
 ///   model is a few MiB; 16 MiB. tinyxml2 and urdfdom read a URDF in time linear in its size once its
-///   nesting is bounded (urdf_model.cpp), about 0.1 s per MiB.
+///   nesting, attributes per tag and links are bounded (urdf_model.hpp), about 0.1 s per MiB.
 /// - checkpoints (estimator_state_file.hpp): n parameters and their n x n covariance at up to 25
-///   characters a number, so 3000 parameters (300 links with effects) is 225 MB; 256 MiB. They are
-///   parsed by nlohmann::json in linear time (about 1 s for that size).
+///   characters a number, so 1100 parameters (a 100-link robot with effects, four times the bundled
+///   28-link chain, beyond real time for the dense estimator) is 30 MB; 32 MiB. nlohmann::json
+///   parses them in linear time, but its tree takes up to 30 bytes for a byte of text (a file of
+///   empty arrays): 32 MiB keeps that under a gigabyte.
 #pragma once
 
 #include <cstddef>
@@ -26,7 +28,7 @@ namespace inertial {
 
 inline constexpr std::size_t kMaxSettingsFileBytes = std::size_t{64} * 1024;
 inline constexpr std::size_t kMaxUrdfBytes = std::size_t{16} * 1024 * 1024;
-inline constexpr std::size_t kMaxStateFileBytes = std::size_t{256} * 1024 * 1024;
+inline constexpr std::size_t kMaxStateFileBytes = std::size_t{32} * 1024 * 1024;
 
 /// A file that cannot be read (what() is CannotText's wording) or is larger than its kind's limit
 /// (what() is TooLargeText's).
