@@ -5,8 +5,9 @@
 # to build-sanitize/fuzz-corpus/<name>, never into the repository). Prints, per harness, the inputs
 # run, the rate and the result; a finding leaves its input in build-sanitize/fuzz-findings/, prints
 # the report and makes the script exit 1.
-#   scripts/fuzz.sh [--seconds S | --runs N] [--seed K] [HARNESS...]   (default: --seconds 20, every harness)
-# With --runs and --seed the run is reproducible (the same inputs in the same order) for one build:
+#   scripts/fuzz.sh [--seconds S] [--runs N] [--seed K] [HARNESS...]   (default: --seconds 20, every harness)
+# Given both, a harness stops at whichever comes first. With --runs and --seed the run is
+# reproducible (the same inputs in the same order; with --seconds too, a prefix of them) for one build:
 # the programs run without address-space randomization (setarch -R), since libFuzzer's comparison
 # tracing also records pointer values. CI uses that.
 #
@@ -17,26 +18,27 @@
 # both sides of it are reached; 8 KiB for motors.yaml, whose parser (yaml-cpp) costs about 4 us a
 # token: an input near the limit takes 1 s under the sanitizers, so a run of 10^6 would take days,
 # while the class only a larger input reaches (over the limit) is refused by its size before yaml-cpp
-# runs (tests/config/motors_yaml_test.cpp); a dictionary of the format's structure, nesting and separators
-# (tests/fuzz/dict/); large seeds. The binary LCM formats keep the default (their lengths are
+# runs (tests/config/motors_yaml_test.cpp); a dictionary of the format's structure, nesting and
+# separators (tests/fuzz/dict/); large seeds. The binary LCM formats keep the default (their lengths are
 # fields, which the corpus and mutations reach).
 # -timeout=10: a slow input is a finding. The slowest honest input of any harness takes well under a
 # second under the sanitizers (the 1 MiB logs, checkpoints and URDFs are parsed in linear time), and
 # the slow inputs issue 35 found took 2-10 s without sanitizers; 10 s leaves room for a loaded machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-limit=(-max_total_time=20)
+limit=()
 seed=()
 names=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --seconds) limit=(-max_total_time="$2"); shift 2 ;;
-    --runs) limit=(-runs="$2"); shift 2 ;;
+    --seconds) limit+=(-max_total_time="$2"); shift 2 ;;
+    --runs) limit+=(-runs="$2"); shift 2 ;;
     --seed) seed=(-seed="$2"); shift 2 ;;
     -*) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
 done
+[ ${#limit[@]} -gt 0 ] || limit=(-max_total_time=20)
 build=${INERTIAL_BUILD_DIR:-build-sanitize}  # the sanitizer build (another for long runs beside rebuilds)
 if [ ${#names[@]} -eq 0 ]; then
   for f in tests/fuzz/*_fuzz.cpp; do n=$(basename "$f" _fuzz.cpp); names+=("$n"); done

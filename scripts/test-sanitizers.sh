@@ -22,6 +22,8 @@ done
 # Every test, at the size it has in the normal build (the slowest take 20-170 s here: the
 # simulator's plant is Newton-Euler on the true bodies, not the regressor).
 ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" "$@"
-# A fixed number of inputs from a fixed seed: the same inputs on every machine, so a CI result can be
-# reproduced (about 30 s for the slowest harness, 2 minutes in all; scripts/fuzz.sh --seconds or --runs for long runs).
-INERTIAL_BUILD_DIR=build-sanitize scripts/fuzz.sh --runs "${INERTIAL_FUZZ_RUNS:-20000}" --seed 1
+# A fixed sequence of inputs from a fixed seed (scripts/fuzz.sh: the same inputs for one build), 20,000
+# of them or 60 s a harness, whichever comes first: with the large inputs of issue 35 the slowest
+# harnesses (candump, motors.yaml) run 20-60 inputs a second, so 20,000 would add half an hour to CI.
+# scripts/fuzz.sh --seconds or --runs for long runs.
+INERTIAL_BUILD_DIR=build-sanitize scripts/fuzz.sh --runs "${INERTIAL_FUZZ_RUNS:-20000}" --seconds "${INERTIAL_FUZZ_SECONDS:-60}" --seed 1
