@@ -5,16 +5,13 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Geometry>
-#include <cerrno>
-#include <cmath>
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <map>
 #include <mutex>
-#include <functional>
 
 #include "inertial/formats/input_file.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -205,11 +202,6 @@ void CheckJointGraph(const tinyxml2::XMLElement& robot, const std::string& sourc
   }
 }
 
-// tinyxml2 reads every "<?...?>" before the root element as one declaration node, whatever it holds
-// (it refuses them anywhere else). The XML declaration ("<?xml version=... ?>", first in the file)
-// must have its grammar (XML 1.0, production 23), and no other processing instruction may hold a
-// '<': "<?xml " with 100,000 nested elements before its "?>" is one node to tinyxml2 and 100,000
-// elements to other XML readers (issue 35).
 // The text of an XML declaration between "<?" and "?>" by XML 1.0's production 23:
 // xml S version="1.x" [S encoding="Name"] [S standalone="yes|no"] [S], either quote. A scan, not a
 // std::regex: libstdc++'s regex recurses once per character and overflowed the stack on a long
@@ -222,7 +214,7 @@ bool IsXmlDeclaration(const std::string& text) {
     return at > from;
   };
   // S name S? = S? quoted value, the value checked by `valid`.
-  const auto attribute = [&](const std::string& name, const std::function<bool(const std::string&)>& valid) {
+  const auto attribute = [&](const std::string& name, const auto& valid) {
     const std::size_t from = at;
     if (!space() || text.compare(at, name.size(), name) != 0) {
       at = from;
@@ -257,6 +249,11 @@ bool IsXmlDeclaration(const std::string& text) {
   return at == text.size();
 }
 
+// tinyxml2 reads every "<?...?>" before the root element as one declaration node, whatever it holds
+// (it refuses them anywhere else). The XML declaration ("<?xml version=... ?>", first in the file)
+// must have its grammar (XML 1.0, production 23), and no other processing instruction may hold a
+// '<': "<?xml " with 100,000 nested elements before its "?>" is one node to tinyxml2 and 100,000
+// elements to other XML readers (issue 35).
 void CheckDeclarations(const tinyxml2::XMLDocument& doc, const std::string& source) {
   for (const tinyxml2::XMLNode* n = doc.FirstChild(); n != nullptr; n = n->NextSibling()) {
     const tinyxml2::XMLDeclaration* d = n->ToDeclaration();

@@ -98,7 +98,7 @@ TEST(HostileInput, AMotorsYamlOverTheSettingsLimitIsRefusedBeforeParsing) {
   fs::remove(candump);
 }
 
-// 4. A joint 1e300 m from its parent passed `check` (exit 0).
+// 4. A joint 1e300 m from its parent passed `check` (exit 0). (Line 5: the leg's text from <robot> on.)
 TEST(HostileInput, ALengthBeyondAnyRobotIsRefusedByCheck) {
   ASSERT_FALSE(Cli().empty());
   std::string xml = LegElement();
@@ -108,9 +108,7 @@ TEST(HostileInput, ALengthBeyondAnyRobotIsRefusedByCheck) {
   xml.replace(value, xml.find('"', value) - value, "0 0 1e300");
   const std::string path = testing::WriteUniqueTempFile("far.urdf", xml);
   ExpectPromptRefusal(Timed(Cli(), {"check", "--model", path}),
-                      "joint 'abad': <origin> (line ");
-  const testing::CliRun r = testing::RunProgram(Cli(), {"check", "--model", path});
-  EXPECT_TRUE(Contains(r.err, "attribute 'xyz' holds 1e+300 m, beyond the 1000 m of any robot")) << Describe(r);
+                      "joint 'abad': <origin> (line 5): attribute 'xyz' holds 1e+300 m, beyond the 1000 m of any robot");
   fs::remove(path);
 }
 
