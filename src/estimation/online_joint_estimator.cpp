@@ -8,6 +8,7 @@ namespace inertial {
 std::string_view ToString(EstimatorKind kind) {
   switch (kind) {
     case EstimatorKind::kGaussNewton: return "gauss_newton";
+    case EstimatorKind::kEkf: return "ekf";
     case EstimatorKind::kGradient: return "gradient";
     case EstimatorKind::kLinearRls: return "linear_rls";
   }
@@ -16,9 +17,10 @@ std::string_view ToString(EstimatorKind kind) {
 
 EstimatorKind ParseEstimatorKind(std::string_view name) {
   if (name == "gauss_newton") return EstimatorKind::kGaussNewton;
+  if (name == "ekf") return EstimatorKind::kEkf;
   if (name == "gradient") return EstimatorKind::kGradient;
   if (name == "linear_rls") return EstimatorKind::kLinearRls;
-  throw std::invalid_argument("unknown estimator '" + std::string(name) + "' (gauss_newton, gradient, linear_rls)");
+  throw std::invalid_argument("unknown estimator '" + std::string(name) + "' (gauss_newton, ekf, gradient, linear_rls)");
 }
 
 std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout& layout, int m,
@@ -41,7 +43,8 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
   // One body measured by its wrench: the fixed-size estimators (same algorithm, compile-time sizes).
   const bool one_body = layout.bodies().size() == 1 && layout.scalars().empty() && layout.num_features() == 10 && m == 6;
   switch (options.kind) {
-    case EstimatorKind::kGaussNewton: {
+    case EstimatorKind::kGaussNewton:
+    case EstimatorKind::kEkf: {
       RecursiveGaussNewtonOptions o;
       o.kalman = options.kalman;
       o.kalman.measurement_sigma = options.measurement_sigma;
@@ -70,7 +73,13 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
 OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0,
                                            const OnlineEstimatorOptions& options)
     : model_(std::move(model)), kind_(options.kind) {
-  estimator_ = MakeRecursiveEstimator(ParameterLayout::FromRobot(model_), model_.num_dofs(), x0, options);
+  if (options.kind == EstimatorKind::kGaussNewton) {
+    auto fit = std::make_unique<OnlineFit>(model_, x0, options.fit);
+    fit_ = fit.get();
+    estimator_ = std::move(fit);
+  } else {
+    estimator_ = MakeRecursiveEstimator(ParameterLayout::FromRobot(model_), model_.num_dofs(), x0, options);
+  }
   workspace_ = model_.MakeWorkspace();
   A_.resize(model_.num_dofs(), model_.num_features());
   w_.resize(model_.num_features());
@@ -97,6 +106,12 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   status = estimator_->Update(s.t, A_, s.tau);
   if (status == UpdateStatus::kAccepted) estimator_->Coefficients(w_);
   return status;
+}
+
+bool OnlineJointEstimator::Solve(bool from_start) {
+  if (fit_ == nullptr || !fit_->Solve(from_start)) return false;
+  estimator_->Coefficients(w_);
+  return true;
 }
 
 bool OnlineJointEstimator::Restore(const EstimatorState& state, std::string* why) {

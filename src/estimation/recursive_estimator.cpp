@@ -15,7 +15,8 @@ EstimatorState RecursiveEstimator::State() const {
   EstimatorState s;
   s.kind = std::string(kind());
   s.x = parameters();
-  s.P = Covariance();
+  s.P = StateCovariance();
+  SaveExtra(&s);
   s.has_time = has_time_;
   s.last_time = last_time_;
   s.counters = counters_;
@@ -63,6 +64,7 @@ bool RecursiveEstimator::Restore(const EstimatorState& state, std::string* why) 
       return false;
     }
   }
+  if (!CheckExtra(state, why)) return false;
   const EstimatorState before = State();
   if (!SetParameters(state.x, state.P, why)) return false;
   Eigen::VectorXd w(num_features_);
@@ -76,6 +78,7 @@ bool RecursiveEstimator::Restore(const EstimatorState& state, std::string* why) 
     }
     return false;
   }
+  RestoreExtra(state);
   has_time_ = state.has_time;
   last_time_ = state.last_time;
   counters_ = state.counters;

@@ -12,9 +12,9 @@ std::vector<OnlineBodyState> BodyStatesOf(const OnlineJointEstimator& estimator)
 
 StreamDiagnosisOptions StreamDiagnosisOptionsFor(const RobotDynamics& model, const OnlineEstimatorOptions& options) {
   StreamDiagnosisOptions o;
-  OnlineEstimatorOptions gauss_newton = options;
-  gauss_newton.kind = EstimatorKind::kGaussNewton;
-  const OnlineJointEstimator fresh(model, Eigen::VectorXd::Zero(model.num_parameters()), gauss_newton);
+  OnlineEstimatorOptions ekf = options;  // the prior covariance of x the EKF starts from
+  ekf.kind = EstimatorKind::kEkf;
+  const OnlineJointEstimator fresh(model, Eigen::VectorXd::Zero(model.num_parameters()), ekf);
   o.prior_covariance = fresh.estimator().Covariance();
   o.measurement_sigma = Eigen::VectorXd::Constant(model.num_dofs(), options.measurement_sigma);
   return o;

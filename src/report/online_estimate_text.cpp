@@ -15,7 +15,8 @@ std::string OnlineEstimateText(const OnlineJointEstimator& estimator) {
   for (int e = 0; e < static_cast<int>(bodies.size()); ++e) {
     const InertialParams b = estimator.Body(e);
     if (uncertainty) {
-      out << "  " << bodies[e].name << ": " << BodyUncertaintyText(b, uncertainty->bodies[e], nullptr) << "\n";
+      const BodyHeldByPrior* held = uncertainty->held.empty() ? nullptr : &uncertainty->held[e];
+      out << "  " << bodies[e].name << ": " << BodyUncertaintyText(b, uncertainty->bodies[e], held) << "\n";
     } else {
       out << "  " << bodies[e].name << ": mass " << b.mass() << " kg, COM [" << b.com().transpose() << "] m\n";
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/report/identification_report.hpp"
 
 namespace inertial {
@@ -40,6 +41,21 @@ ModelUncertainty FromFit(const FitUncertainty& fit) {
 }
 
 std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& estimator) {
+  if (const OnlineFit* fit = estimator.fit()) {
+    // One uncertainty: the batch objective's Laplace covariance at the online solution, with
+    // "held by the prior", exactly as identify reports it.
+    const JointNormalEquations eq = fit->Equations();
+    try {
+      ModelUncertainty u = FromFit(EstimateFitUncertainty(fit->model(), eq, fit->parameters(),
+                                                          fit->options().solve.prior_weight,
+                                                          fit->options().solve.frozen_bodies));
+      u.source = "from the curvature of the fit of the " + std::to_string(eq.num_samples) + " samples kept, torque noise " +
+                 u.source.substr(u.source.find("noise ") + 6);
+      return u;
+    } catch (const std::invalid_argument&) {
+      return std::nullopt;  // no residual degrees of freedom yet
+    }
+  }
   const Eigen::MatrixXd P = estimator.estimator().Covariance();
   if (P.size() == 0) return std::nullopt;
   const RobotDynamics& model = estimator.model();

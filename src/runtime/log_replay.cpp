@@ -98,6 +98,7 @@ class Replayer {
     }
     ++samples_;
     const SamplePipeline::Outcome outcome = pipeline_.Process(s);
+    pipeline_.Solve();  // in line: a replay is not real time, and its estimates must not depend on the machine
     if (on_sample_) on_sample_(*s, outcome);
     if (next_row_ >= 0 && t < next_row_) return;
     next_row_ = t + options_.estimate_period_s;
@@ -105,6 +106,7 @@ class Replayer {
   }
 
   void Finish(ReplayResult* result, const SampleCounters& decoded) {
+    pipeline_.Solve(true);  // the final estimate: identify's fit of every sample kept
     result->counters = TotalCounters(decoded, pipeline_.counters());
     result->samples = samples_;
     result->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -92,4 +92,10 @@ SampleCounters TotalCounters(const SampleCounters& decoded, const SampleCounters
   return t;
 }
 
+bool SamplePipeline::Solve(bool final) {
+  if (robot_ == nullptr || robot_->fit() == nullptr) return false;
+  if (!final && !robot_->SolveDue()) return false;
+  return robot_->Solve(final);
+}
+
 }  // namespace inertial

@@ -73,7 +73,7 @@ TEST(DaemonOverrides, BadValuesAreRefusedNamingTheirOption) {
   EXPECT_EQ(ErrorOf(o), "--noise-tau: 'abc' is not a number");
   o = {};
   o.estimator = "kalman";
-  EXPECT_EQ(ErrorOf(o), "unknown estimator 'kalman' (gauss_newton, gradient, linear_rls)");
+  EXPECT_EQ(ErrorOf(o), "unknown estimator 'kalman' (gauss_newton, ekf, gradient, linear_rls)");
   o = {};
   o.log_level = "loud";
   EXPECT_EQ(ErrorOf(o), "log level 'loud' is not one of error, warn, info, debug");

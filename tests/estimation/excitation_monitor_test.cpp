@@ -67,9 +67,11 @@ Eigen::MatrixXd DensePrior(const Eigen::VectorXd& variance, unsigned seed) {
   return P0;
 }
 
-// The prior covariance of a fresh recursive Gauss-Newton estimator with the default options.
+// The prior covariance of a fresh Kalman (ekf) estimator with the default options.
 Eigen::MatrixXd FreshEstimatorPrior(const RobotDynamics& model) {
-  const OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()));
+  OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;
+  const OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   return estimator.estimator().State().P;
 }
 

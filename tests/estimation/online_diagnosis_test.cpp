@@ -59,6 +59,7 @@ StreamOutcome RunStream(const std::string& hidden, const std::vector<double>& va
   out.effect_share = ((full - alone).colwise().norm().array() / full.colwise().norm().array()).transpose();
   const RobotDynamics model = Leg(model_effects);
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;  // the diagnosis of the Kalman estimator's residuals and covariance
   o.measurement_sigma = kSigma;
   OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   OnlineDiagnosis diagnosis(model);

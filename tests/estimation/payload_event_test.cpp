@@ -98,7 +98,8 @@ Stream MakeStream(const RobotDynamics& model, const Eigen::VectorXd& x_true, con
 }
 
 OnlineEstimatorOptions EstimatorOptions(double sigma) {
-  OnlineEstimatorOptions o;  // gauss_newton, theta_std 0.3, gate 30, 50 outliers in a row
+  OnlineEstimatorOptions o;  // ekf, theta_std 0.3, gate 30, 50 outliers in a row
+  o.kind = EstimatorKind::kEkf;
   o.measurement_sigma = sigma;
   return o;
 }

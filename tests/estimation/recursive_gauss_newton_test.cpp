@@ -52,7 +52,7 @@ TEST(RecursiveGaussNewton, LinearModelEqualsBatchRegularizedLeastSquares) {
   const Eigen::VectorXd batch = normal.ldlt().solve(rhs);
   EXPECT_LT((rgn.parameters() - batch).norm() / batch.norm(), 1e-10);
   EXPECT_LT((rgn.Covariance() - Eigen::MatrixXd(normal.inverse())).norm() / normal.inverse().norm(), 1e-9);
-  EXPECT_EQ(rgn.kind(), "gauss_newton");
+  EXPECT_EQ(rgn.kind(), "ekf");
 }
 
 TEST(RecursiveGaussNewton, ExponentialBlockTakesTheExtendedKalmanStep) {

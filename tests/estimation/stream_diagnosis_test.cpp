@@ -39,6 +39,7 @@ Stream MakeStream() {
   const testing::SimulatedLogs logs = testing::SimulateLogs(truth, x_true, 0.05, 16.0, 4, 250);
   const RobotDynamics model = Leg();
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;
   o.measurement_sigma = 0.05;
   OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   Stream s;

@@ -81,6 +81,7 @@ void ExpectGaussNewtonConverges(const Case& c) {
   const RobotDynamics& model = stream.model;
   const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;  // the per-sample Kalman estimator (online_fit_test.cpp: the fit)
   o.measurement_sigma = c.sigma;
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   const double prior_error = RmsError(est, logs.test_clean);
@@ -130,6 +131,7 @@ TEST(OnlineRobotEstimation, GradientLawImprovesOnThePrior) {
   const RobotDynamics& model = stream.model;
   const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;  // the per-sample Kalman estimator (online_fit_test.cpp: the fit)
   o.kind = EstimatorKind::kGradient;
   o.measurement_sigma = kLeg.sigma;
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
@@ -152,6 +154,7 @@ TEST(OnlineRobotEstimation, FaultsOnTheArmStream) {
   const RobotDynamics& model = stream.model;
   const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;  // the per-sample Kalman estimator (online_fit_test.cpp: the fit)
   o.measurement_sigma = kArm.sigma;
   OnlineJointEstimator clean(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   for (int k = 0; k < logs.train.size(); ++k) clean.Update(At(logs.train, k));

@@ -29,7 +29,7 @@ TEST(OnlineEstimateText, WithoutACovarianceMassAndComPerBody) {
 }
 
 TEST(OnlineEstimateText, WithACovarianceEveryNumberHasItsStandardDeviation) {
-  const std::string text = OnlineEstimateText(Leg(EstimatorKind::kGaussNewton));
+  const std::string text = OnlineEstimateText(Leg(EstimatorKind::kEkf));
   EXPECT_EQ(text.rfind("final estimate (+- one standard deviation ", 0), 0u) << text;
   EXPECT_NE(text.find("):\n  abad_link: mass 2 +- "), std::string::npos) << text;
   EXPECT_NE(text.find("\n  thigh: mass 1.8 +- "), std::string::npos) << text;

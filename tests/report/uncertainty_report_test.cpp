@@ -86,6 +86,7 @@ TEST(UncertaintyReport, GaussNewtonEstimatorsCovarianceByHand) {
   const int s = model.effects()[0].first_parameter;
   x0[s] = std::log(2.0);
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;
   o.effect_std = 0.2;
   o.theta_std = 0.3;
   const OnlineJointEstimator est(model, x0, o);

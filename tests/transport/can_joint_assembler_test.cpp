@@ -71,6 +71,7 @@ TEST(CanJointAssembler, SimulatedLegThroughTheMotorsIntoTheEstimator) {
   const JointSamples log = testing::SimulateLogs(model, testing::TrueParameters(model, {0.0}, 2), 0.1, 10.0, 3, 500).train;
   CanJointAssembler a(LegConfig(), robot.dof_names);
   OnlineEstimatorOptions o;
+  o.kind = EstimatorKind::kEkf;
   o.measurement_sigma = 0.1;
   OnlineJointEstimator via_can(model, Eigen::VectorXd::Zero(model.num_parameters()), o), exact(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   JointSample s, e;

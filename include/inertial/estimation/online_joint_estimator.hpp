@@ -2,22 +2,30 @@
 /// The online estimator of a robot from joint-space samples (q, qd, qdd, tau of every DOF, in the
 /// model's DOF order): per sample, the features A(q, qd, qdd) of RobotDynamics (joint-torque
 /// regressor of every link and rotor, effect features) computed without allocation, then one
-/// update of the chosen estimator (recursive Gauss-Newton, gradient law, or linear RLS as the
-/// baseline). Update() never allocates and never throws; a bad sample is rejected and counted.
+/// update of the chosen estimator:
+///   - gauss_newton (the default): the batch objective's sufficient statistics, re-solved by
+///     Gauss-Newton / Levenberg-Marquardt off the tick (online_fit.hpp): the estimate is identify's
+///     fit of the samples so far; Solve() runs the solve (when SolveDue(), or from another thread
+///     through fit());
+///   - ekf: the extended Kalman filter on x (recursive_gauss_newton.hpp), one linearization per
+///     sample: kept for comparison and for the single body;
+///   - gradient: the gradient law; linear_rls: least squares on pi, the baseline.
+/// Update() never allocates and never throws; a bad sample is rejected and counted.
 #pragma once
 
 #include <memory>
 
 #include "inertial/estimation/gradient_estimator.hpp"
 #include "inertial/estimation/linear_rls.hpp"
+#include "inertial/estimation/online_fit.hpp"
 #include "inertial/estimation/recursive_gauss_newton.hpp"
 #include "inertial/model/joint_samples.hpp"
 #include "inertial/model/robot_dynamics.hpp"
 
 namespace inertial {
 
-enum class EstimatorKind { kGaussNewton, kGradient, kLinearRls };
-/// "gauss_newton", "gradient", "linear_rls".
+enum class EstimatorKind { kGaussNewton, kEkf, kGradient, kLinearRls };
+/// "gauss_newton", "ekf", "gradient", "linear_rls".
 std::string_view ToString(EstimatorKind kind);
 /// @throws std::invalid_argument for any other name.
 EstimatorKind ParseEstimatorKind(std::string_view name);
@@ -45,11 +53,14 @@ struct OnlineEstimatorOptions {
   /// effect_std when not empty: e.g. small for links known from CAD, large for an unknown payload.
   Eigen::VectorXd initial_std;
   KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
+  OnlineFitOptions fit;            ///< gauss_newton of a robot (measurement_sigma, theta_std, effect_std unused)
   GradientOptions gradient;        ///< measurement_sigma likewise
 };
 
 /// Makes the estimator of `kind` for a model with `layout`, m measurements, starting at x0 (for
-/// linear RLS: at w(x0)). @throws std::invalid_argument as the constructors.
+/// linear RLS: at w(x0)); gauss_newton here is the extended Kalman filter (a layout has no
+/// objective to re-solve: OnlineJointEstimator makes the OnlineFit itself).
+/// @throws std::invalid_argument as the constructors.
 std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout& layout, int num_measurements,
                                                            const Eigen::VectorXd& x0,
                                                            const OnlineEstimatorOptions& options);
@@ -61,6 +72,16 @@ class OnlineJointEstimator {
   OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineEstimatorOptions& options = {});
 
   UpdateStatus Update(const JointSample& sample);
+  /// gauss_newton: the statistics have grown enough since the last solve (OnlineFit::solve_due);
+  /// false for the other estimators, which solve within Update().
+  bool SolveDue() const { return fit_ != nullptr && fit_->solve_due(); }
+  /// gauss_newton: re-solves the objective now (allocates: off the tick) and takes its estimate,
+  /// warm-started or from identify's start (OnlineFit::Solve). Returns false if there was nothing
+  /// to solve; the other estimators: false, nothing done.
+  bool Solve(bool from_start = false);
+  /// The OnlineFit of gauss_newton, or null.
+  const OnlineFit* fit() const { return fit_; }
+  OnlineFit* fit() { return fit_; }
   /// Restores a saved state (RecursiveEstimator::Restore) and the coefficients w(x) this adapter
   /// keeps for coefficients(), Body() (linear RLS) and the next prediction. Returns false (and *why)
   /// without changing anything when the state does not fit.
@@ -84,6 +105,7 @@ class OnlineJointEstimator {
   RobotDynamics model_;
   EstimatorKind kind_;
   std::unique_ptr<RecursiveEstimator> estimator_;
+  OnlineFit* fit_ = nullptr;  ///< estimator_ when it is one
   TreeWorkspace workspace_;
   Eigen::MatrixXd A_;
   Eigen::VectorXd w_, tau_hat_, residual_;

@@ -31,6 +31,11 @@ struct EstimatorState {
   bool has_time = false;
   double last_time = 0.0;
   UpdateCounters counters;
+  /// OnlineFit (online_fit.hpp): its sufficient statistics [S s; s^T c] ((F+1) x (F+1), normalized),
+  /// their effective sample count and whether a solve has run; empty for the other estimators.
+  Eigen::MatrixXd statistics;
+  double statistics_samples = 0.0;
+  bool solved = false;
 };
 
 /// Largest |time| [s] a restored state may hold: 1e10 s is year 2286 as Unix time (time stamps are
@@ -92,6 +97,7 @@ class RecursiveEstimator {
     } else if (has_time_ && !(t > last_time_)) {
       status = UpdateStatus::kOutOfOrder;
     } else {
+      applying_time_ = t;
       status = apply();
     }
     counters_.Add(status);
@@ -106,12 +112,22 @@ class RecursiveEstimator {
   /// returns kAccepted.
   virtual UpdateStatus Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) = 0;
   virtual bool SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, std::string* why) = 0;
+  /// The covariance State() saves (Covariance() unless the estimator keeps another state).
+  virtual Eigen::MatrixXd StateCovariance() const { return Covariance(); }
+  /// Adds what else the estimator keeps to a State() / takes it from a state being restored (after
+  /// SetParameters succeeded; returning false undoes nothing, so check first).
+  virtual void SaveExtra(EstimatorState*) const {}
+  virtual bool CheckExtra(const EstimatorState&, std::string*) const { return true; }
+  virtual void RestoreExtra(const EstimatorState&) {}
+  /// The time of the sample being applied (valid inside Apply()).
+  double applying_time() const { return applying_time_; }
 
  private:
   int num_features_, num_measurements_;
   UpdateCounters counters_;
   bool has_time_ = false;
   double last_time_ = 0.0;
+  double applying_time_ = 0.0;
 };
 
 }  // namespace inertial

@@ -44,7 +44,8 @@ class BasicRecursiveGaussNewton final : public RecursiveEstimator {
   /// The same as Update(t, A, y) with the estimator's own types (for fixed sizes: no copies).
   UpdateStatus Update(double t, const MatrixA& A, const VectorM& y);
 
-  std::string_view kind() const override { return "gauss_newton"; }
+  /// "ekf" for a robot's layout, "gauss_newton" for the fixed-size single body (its default estimator).
+  std::string_view kind() const override { return kDynamic ? "ekf" : "gauss_newton"; }
   const Eigen::VectorXd& parameters() const override { return x_; }
   void Coefficients(Eigen::Ref<Eigen::VectorXd> w) const override { layout_.Coefficients(x_, w); }
   Eigen::MatrixXd Covariance() const override { return kalman_.Covariance(); }

@@ -22,14 +22,16 @@ namespace inertial {
 /// Standard deviations of a model's numbers (per estimated body and per effect term of the model).
 struct ModelUncertainty {
   std::vector<BodyUncertainty> bodies;
-  std::vector<BodyHeldByPrior> held;             ///< empty: no labels (online estimates)
+  std::vector<BodyHeldByPrior> held;             ///< empty: no labels (the Kalman and RLS estimators)
   std::vector<std::vector<double>> effects;      ///< per effect term, per EffectValues entry
   std::string source;                            ///< how they were obtained, one phrase
 };
 
 /// From a batch fit's uncertainty.
 ModelUncertainty FromFit(const FitUncertainty& fit);
-/// From the online estimator's covariance; nullopt for estimators that keep none (gradient law).
+/// gauss_newton (the online fit): FromFit of its statistics at its solution, the batch's own
+/// uncertainty with "held by the prior"; nullopt before it has residual degrees of freedom.
+/// The other estimators: from their covariance; nullopt for those that keep none (gradient law).
 /// Linear RLS: per tree body (payloads inside their links'), effects from w's covariance.
 std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& estimator);
 

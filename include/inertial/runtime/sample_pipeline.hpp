@@ -42,6 +42,11 @@ class SamplePipeline {
   };
   /// One decoded sample through preprocessing and the estimator (*sample is completed in place).
   Outcome Process(Sample* sample);
+  /// For drivers that solve in line (replay): re-solves the robot's objective (gauss_newton,
+  /// online_fit.hpp) warm-started if it is due; with final, now and from identify's start (the
+  /// estimate of the whole log: identify's fit). Allocates; not for a real-time loop (inertiald
+  /// solves on a thread of its own). True if the estimate changed.
+  bool Solve(bool final = false);
 
   /// received: samples given to Process; accepted, buffered, rejected by reason.
   const SampleCounters& counters() const { return counters_; }
