@@ -114,6 +114,12 @@ bool OnlineJointEstimator::Solve(bool from_start) {
   return true;
 }
 
+bool OnlineJointEstimator::Adopt(const OnlineFitSolution& solution) {
+  if (fit_ == nullptr || !fit_->Adopt(solution)) return false;
+  estimator_->Coefficients(w_);
+  return true;
+}
+
 bool OnlineJointEstimator::Restore(const EstimatorState& state, std::string* why) {
   if (!estimator_->Restore(state, why)) return false;
   estimator_->Coefficients(w_);

@@ -36,6 +36,17 @@ std::string EstimatorStateToJson(const EstimatorState& s, const std::string& mod
     P.push_back(row);
   }
   j["P"] = P;
+  if (s.statistics.size() > 0) {  // the online fit's sufficient statistics (online_fit.hpp)
+    nlohmann::json M = nlohmann::json::array();
+    for (int r = 0; r < s.statistics.rows(); ++r) {
+      std::vector<double> row(s.statistics.cols());
+      for (int c = 0; c < s.statistics.cols(); ++c) row[c] = s.statistics(r, c);
+      M.push_back(row);
+    }
+    j["statistics"] = M;
+    j["statistics_samples"] = s.statistics_samples;
+    j["solved"] = s.solved;
+  }
   j["has_time"] = s.has_time;
   j["last_time"] = s.last_time;
   nlohmann::json counters = nlohmann::json::object();
@@ -76,6 +87,22 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
         if (row.size() != x.size()) throw StateFileError(source + ": covariance row " + std::to_string(r) + " has " + std::to_string(row.size()) + " entries");
         for (size_t c = 0; c < row.size(); ++c) s.P(r, c) = row[c];
       }
+    }
+    if (j.contains("statistics")) {
+      const auto& M = j.at("statistics");
+      if (!M.is_array()) throw StateFileError(source + ": \"statistics\" is not an array of rows");
+      const size_t n = M.size();
+      s.statistics.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+      for (size_t r = 0; r < n; ++r) {
+        const std::vector<double> row = M[r].get<std::vector<double>>();
+        if (row.size() != n) {
+          throw StateFileError(source + ": statistics row " + std::to_string(r) + " has " + std::to_string(row.size()) +
+                               " entries, not " + std::to_string(n));
+        }
+        for (size_t c = 0; c < n; ++c) s.statistics(r, c) = row[c];
+      }
+      s.statistics_samples = j.at("statistics_samples").get<double>();
+      s.solved = j.at("solved").get<bool>();
     }
     s.has_time = j.at("has_time").get<bool>();
     s.last_time = j.at("last_time").get<double>();

@@ -525,6 +525,32 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
     std::lock_guard<std::mutex> lock(process_mutex_);
     return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
   };
+  // The solver (gauss_newton of a robot, online_fit.hpp): the objective re-solved on a thread of
+  // its own from a snapshot of the statistics, so that the estimator thread only accumulates.
+  std::atomic<bool> solver_stop{false};
+  std::thread solver;
+  if (robot_ && robot_->fit() != nullptr) {
+    solver = std::thread([&] {
+      while (!solver_stop) {
+        std::optional<OnlineFitSnapshot> snapshot;
+        {
+          std::lock_guard<std::mutex> lock(process_mutex_);
+          if (robot_->SolveDue()) snapshot = robot_->fit()->Snapshot();
+        }
+        if (!snapshot) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
+          continue;
+        }
+        try {
+          const OnlineFitSolution solution = SolveOnlineFit(robot_->model(), *snapshot, robot_->fit()->options());
+          std::lock_guard<std::mutex> lock(process_mutex_);
+          robot_->Adopt(solution);
+        } catch (const std::exception& e) {
+          if (FirstTime("solve")) Log(LogLevel::kError, std::string("the solve failed: ") + e.what());
+        }
+      }
+    });
+  }
   bool failed = false;
   try {
     while (!stop && !receiver_failed) {
@@ -550,8 +576,14 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   }
   receiver_stop = true;
   receiver.join();
+  solver_stop = true;
+  if (solver.joinable()) solver.join();
   if (failed) return 1;
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
+  if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    robot_->Solve(true);
+  }
   Publish(utime());
   FinalDiagnosis(utime());
   Checkpoint();

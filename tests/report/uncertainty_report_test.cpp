@@ -92,7 +92,7 @@ TEST(UncertaintyReport, GaussNewtonEstimatorsCovarianceByHand) {
   const OnlineJointEstimator est(model, x0, o);
   const std::optional<ModelUncertainty> u = FromOnlineEstimator(est);
   ASSERT_TRUE(u.has_value());
-  EXPECT_EQ(u->source, "from the gauss_newton estimator's covariance");
+  EXPECT_EQ(u->source, "from the ekf estimator's covariance");
   ASSERT_EQ(u->effects.size(), 1u);
   ASSERT_EQ(u->effects[0].size(), 1u);
   EXPECT_NEAR(u->effects[0][0], 2.0 * 0.2, 1e-12);  // db = b ds
@@ -114,9 +114,9 @@ TEST(UncertaintyReport, GaussNewtonEstimatorsCovarianceByHand) {
   const ModelSnapshot snapshot = SnapshotWithUncertainty(est);
   ASSERT_EQ(snapshot.notes.count("viscous@knee"), 1u);
   EXPECT_EQ(snapshot.notes.at("viscous@knee"),
-            "standard deviations (from the gauss_newton estimator's covariance): b = 2 +- 0.4 N m s/rad");
+            "standard deviations (from the ekf estimator's covariance): b = 2 +- 0.4 N m s/rad");
   ASSERT_EQ(snapshot.notes.count("knee_link"), 1u);
-  EXPECT_EQ(snapshot.notes.at("knee_link").rfind("standard deviations (from the gauss_newton estimator's covariance): "
+  EXPECT_EQ(snapshot.notes.at("knee_link").rfind("standard deviations (from the ekf estimator's covariance): "
                                                  "mass 0.5 +- ", 0), 0u)
       << snapshot.notes.at("knee_link");
 }

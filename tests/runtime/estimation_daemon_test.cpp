@@ -29,6 +29,20 @@
 namespace inertial {
 namespace {
 
+// RMS of the difference of the torques two coefficient vectors predict for the samples, over the
+// RMS of the measured torques.
+double TorqueDifference(const RobotDynamics& model, const Eigen::VectorXd& wa, const Eigen::VectorXd& wb,
+                        const std::vector<JointSample>& samples) {
+  Eigen::MatrixXd A(model.num_dofs(), model.num_features());
+  double diff = 0.0, scale = 0.0;
+  for (const JointSample& j : samples) {
+    model.Features(j.q, j.qd, j.qdd, A);
+    diff += (A * (wa - wb)).squaredNorm();
+    scale += j.tau.squaredNorm();
+  }
+  return std::sqrt(diff / scale);
+}
+
 // Every row of a joint log as a sample.
 std::vector<JointSample> SamplesOf(const JointSamples& log) {
   std::vector<JointSample> out(static_cast<size_t>(log.size()));
@@ -152,8 +166,16 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   OnlineEstimatorOptions eo;
   eo.measurement_sigma = 0.3;
   OnlineJointEstimator direct(model, Eigen::VectorXd::Zero(model.num_parameters()), eo);
-  for (const JointSample& j : s.samples) direct.Update(j);
-  EXPECT_EQ(daemon.robot_estimator()->estimator().parameters(), direct.estimator().parameters());
+  for (const JointSample& j : s.samples) {
+    direct.Update(j);
+    if (direct.SolveDue()) direct.Solve();
+  }
+  direct.Solve(true);
+  // The daemon solves on a thread of its own (its statistics summed in another order): the same
+  // fit of the same samples, up to where Levenberg-Marquardt stops in the valleys only the prior
+  // holds (online_fit.hpp): the same torques.
+  EXPECT_EQ(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples());
+  EXPECT_LT(TorqueDifference(model, daemon.robot_estimator()->coefficients(), direct.coefficients(), s.samples), 1e-3);  // identify's stopping rule: ~sqrt(1e-7)
 
   // The last published estimate: consistent bodies, the counters, residuals near the noise.
   std::lock_guard<std::mutex> lock(captured.mutex);
@@ -167,7 +189,7 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   }
   EXPECT_EQ(e.accepted, static_cast<std::int64_t>(s.samples.size()));
   EXPECT_EQ(e.rejected, static_cast<std::int64_t>(c.samples.total_rejected()));
-  EXPECT_EQ(e.bodies[2].pi[0], direct.Body(2).mass());
+  EXPECT_NEAR(e.bodies[2].pi[0], direct.Body(2).mass(), 0.1 * direct.Body(2).mass());  // published before the final solve
   ASSERT_EQ(e.num_channels, 3);
   for (double r : e.residual_rms) {
     EXPECT_GT(r, 0.2);
@@ -514,9 +536,15 @@ TEST(EstimationDaemon, MotorsOnACanBus) {
   StreamPreprocessor preprocess(model.num_dofs(), can.accel_cutoff_hz);
   JointSample tick;
   for (const CanFrame& f : frames) {
-    if (assembler.Feed(f, &tick) && preprocess.Process(&tick) == Rejection::kNone) direct.Update(tick);
+    if (assembler.Feed(f, &tick) && preprocess.Process(&tick) == Rejection::kNone) {
+      direct.Update(tick);
+      if (direct.SolveDue()) direct.Solve();
+    }
   }
-  EXPECT_EQ(daemon.robot_estimator()->estimator().parameters(), direct.estimator().parameters());
+  direct.Solve(true);
+  // The daemon's solves run on their own thread: the same fit, the same torques (see above).
+  EXPECT_EQ(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples());
+  EXPECT_LT(TorqueDifference(model, daemon.robot_estimator()->coefficients(), direct.coefficients(), s.samples), 1e-3);  // identify's stopping rule: ~sqrt(1e-7)
 }
 
 // A single body on a wrench sensor (inertial.body_wrench_t): the daemon's estimate equals the body
@@ -649,6 +677,7 @@ TEST(EstimationDaemon, RestartWithMoreEffectsKeepsTheEstimateAndTheErrorFalls) {
   const size_t half = s.samples.size() / 2;
   const fs::path checkpoint = testing::UniqueTempPath("links.json");
   DaemonOptions o = MemqOptions();
+  o.estimator.kind = EstimatorKind::kEkf;  // the covariance carried entry by entry (gauss_newton keeps x, restarts its statistics)
   o.estimator.measurement_sigma = kNoiseSigma;
   o.checkpoint_path = checkpoint.string();
   const RobotDynamics links = MakeRobotDynamics(s.robot, {});

@@ -4,6 +4,8 @@
 // file:// provider.
 #include <gtest/gtest.h>
 
+#include "inertial/estimation/joint_identification.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 #include <thread>
 
@@ -47,7 +49,9 @@ Eigen::VectorXd Direct(const RobotDynamics& model, const JointSamples& log) {
   for (int i = 0; i < log.size(); ++i) {
     CopySample(log, i, &s);
     e.Update(s);
+    if (e.SolveDue()) e.Solve();  // as replay solves, in line
   }
+  e.Solve(true);
   return e.estimator().parameters();
 }
 
@@ -145,7 +149,13 @@ TEST(LogReplay, DaemonOnAFileProvider) {
   stop = true;
   runner.join();
   EXPECT_EQ(daemon.counters().samples.accepted, static_cast<std::uint64_t>(f.log.size())) << daemon.CountersText();
-  EXPECT_EQ(daemon.robot_estimator()->estimator().parameters(), Direct(model, f.log));
+  // The daemon solves on a thread of its own, so its statistics are summed in another order; its
+  // final estimate is the same fit of the same samples up to where Levenberg-Marquardt stops in
+  // the valleys only the prior holds (online_fit.hpp): the same torques.
+  const Eigen::MatrixXd direct = PredictJointTorques(model, Direct(model, f.log), f.log);
+  const Eigen::MatrixXd daemon_tau = PredictJointTorques(model, daemon.robot_estimator()->estimator().parameters(), f.log);
+  // (identify stops at a relative cost change of 1e-7: torques agree to ~sqrt(1e-7) = 3e-4.)
+  EXPECT_LT((daemon_tau - direct).norm(), 1e-3 * f.log.tau.norm());
   fs::remove(log);
 }
 

@@ -79,6 +79,9 @@ class OnlineJointEstimator {
   /// warm-started or from identify's start (OnlineFit::Solve). Returns false if there was nothing
   /// to solve; the other estimators: false, nothing done.
   bool Solve(bool from_start = false);
+  /// gauss_newton solved on another thread: OnlineFit::Adopt of a solution of fit()->Snapshot(),
+  /// and the coefficients this adapter keeps follow. False (nothing changed) if not adopted.
+  bool Adopt(const OnlineFitSolution& solution);
   /// The OnlineFit of gauss_newton, or null.
   const OnlineFit* fit() const { return fit_; }
   OnlineFit* fit() { return fit_; }
