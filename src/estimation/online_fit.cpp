@@ -175,6 +175,7 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   capacity_ = std::max(options.warmup, options.max_consecutive_outliers);
   pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
   pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
+  pending_buffered_ = Eigen::Matrix<char, Eigen::Dynamic, 1>::Zero(capacity_);
   window_r_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   window_y_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   noise_ = Eigen::VectorXd::Zero(m_);
@@ -209,7 +210,7 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
       (has_time() && std::isfinite(options_.forgetting_time)) ? std::exp(-(applying_time() - last_time()) / options_.forgetting_time) : 1.0;
   if (!has_scale_) {
     if (pending_count_ < capacity_) {
-      Hold(A, y);
+      Hold(A, y, false);
       return UpdateStatus::kAccepted;
     }
     // The caller has not solved since the warm-up filled: nothing to judge by yet.
@@ -230,13 +231,15 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
     // Held for the next solve, which judges it with the fit that includes it; a run longer than
     // max_consecutive_outliers is a change of the system: start over from the current estimate.
     if (++consecutive_ <= options_.max_consecutive_outliers && pending_count_ < capacity_) {
-      Hold(A, y);
+      Hold(A, y, true);
       return UpdateStatus::kBuffered;
     }
     ++changes_;
-    for (int i = 0; i < pending_count_; ++i) CountSample(UpdateStatus::kOutlier);  // the run before the change
+    for (int i = 0; i < pending_count_; ++i) {  // the run before the change
+      if (pending_buffered_[i]) CountSample(UpdateStatus::kOutlier);
+    }
     Empty();
-    Hold(A, y);
+    Hold(A, y, false);
     return UpdateStatus::kAccepted;
   }
   consecutive_ = 0;
@@ -244,9 +247,10 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   return UpdateStatus::kAccepted;
 }
 
-void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, bool buffered) {
   pending_rows_.middleCols(static_cast<Eigen::Index>(pending_count_) * m_, m_) = A.transpose();
   pending_y_.col(pending_count_) = y;
+  pending_buffered_[pending_count_] = buffered ? 1 : 0;
   ++pending_count_;
 }
 
@@ -311,11 +315,11 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
     bool all_kept = true;
     for (int i = 0; i < judged; ++i) {
       if (!sol.pending_kept[i]) {
-        CountSample(UpdateStatus::kOutlier);
+        CountSample(UpdateStatus::kOutlier);  // (a warm-up sample's: after its acceptance into the warm-up)
         all_kept = false;
         continue;
       }
-      if (has_scale_) CountSample(UpdateStatus::kAccepted);  // held as kBuffered by the gate
+      if (pending_buffered_[i]) CountSample(UpdateStatus::kAccepted);  // held as kBuffered by the gate
       At_.topLeftCorner(F_, m_) = pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_);
       ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
       s_.noalias() += At_.topLeftCorner(F_, m_) * pending_y_.col(i);
@@ -327,6 +331,7 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
       pending_rows_.leftCols(static_cast<Eigen::Index>(rest) * m_) =
           pending_rows_.middleCols(static_cast<Eigen::Index>(judged) * m_, static_cast<Eigen::Index>(rest) * m_).eval();
       pending_y_.leftCols(rest) = pending_y_.middleCols(judged, rest).eval();
+      pending_buffered_.head(rest) = pending_buffered_.segment(judged, rest).eval();
     }
     pending_count_ = rest;
     if (all_kept) consecutive_ = 0;
@@ -399,8 +404,26 @@ bool OnlineFit::CheckExtra(const EstimatorState& state, std::string* why) const 
 }
 
 void OnlineFit::SaveExtra(EstimatorState* state) const {
+  // The held samples go into the saved statistics as accepted (a checkpoint must not lose them;
+  // the gate's judgement of them is the one thing a restart forgoes).
   state->statistics = StatisticsMatrix();
   state->statistics_samples = weight_;
+  for (int i = 0; i < pending_count_; ++i) {
+    Eigen::VectorXd v(F_ + 1);
+    v.head(F_).setZero();
+    for (int j = 0; j < m_; ++j) {
+      v.head(F_) = pending_rows_.col(static_cast<Eigen::Index>(i) * m_ + j);
+      v[F_] = pending_y_(j, i);
+      state->statistics.selfadjointView<Eigen::Lower>().rankUpdate(v);
+    }
+    state->statistics_samples += 1.0;
+    if (pending_buffered_[i]) {
+      auto& count = state->counters.count;
+      ++count[static_cast<int>(UpdateStatus::kAccepted)];
+      if (count[static_cast<int>(UpdateStatus::kBuffered)] > 0) --count[static_cast<int>(UpdateStatus::kBuffered)];
+    }
+  }
+  state->statistics.triangularView<Eigen::StrictlyUpper>() = state->statistics.transpose();
   state->solved = solved_;
 }
 

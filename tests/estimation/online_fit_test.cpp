@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "estimation/leg_chain.hpp"
@@ -282,6 +283,44 @@ TEST(OnlineFit, BadOptionsThrow) {
   o.solve.frozen_bodies = {true};
   EXPECT_THROW(OnlineFit(model, x0, o), std::invalid_argument);
   EXPECT_THROW(OnlineFit(model, Eigen::VectorXd::Zero(3), {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace inertial
+
+namespace inertial {
+namespace {
+
+// Solved on another thread: snapshots taken, solved and adopted some samples later (as inertiald's
+// solver thread does). Every sample is counted once, as accepted or as an outlier, and the final
+// statistics hold every sample of a clean log.
+TEST(OnlineFit, SolutionsAdoptedLaterCountEverySampleOnce) {
+  const RobotDynamics model = PriorLeg("coulomb@hip,viscous@knee");
+  const Eigen::VectorXd x_true = testing::TrueParameters(model, {0.2, 0.3}, 12, 0.2);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, 0.05, 10.0, 12, 250);
+  for (const int delay : {1, 7, 40, 120}) {
+    OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()));
+    JointSample s;
+    std::optional<OnlineFitSnapshot> snapshot;
+    int taken = 0;
+    for (int i = 0; i < logs.train.size(); ++i) {
+      CopySample(logs.train, i, &s);
+      est.Update(s);
+      if (snapshot && i - taken >= delay) {
+        est.Adopt(SolveOnlineFit(model, *snapshot, est.fit()->options()));
+        snapshot.reset();
+      }
+      if (!snapshot && est.SolveDue()) {
+        snapshot = est.fit()->Snapshot();
+        taken = i;
+      }
+    }
+    est.Solve(true);
+    const UpdateCounters& c = est.estimator().counters();
+    EXPECT_EQ(c.accepted() + c[UpdateStatus::kOutlier], static_cast<std::uint64_t>(logs.train.size())) << delay;
+    EXPECT_EQ(c[UpdateStatus::kOutlier], 0u) << delay;
+    EXPECT_EQ(est.fit()->Equations().num_samples, logs.train.size()) << delay;
+  }
 }
 
 }  // namespace

@@ -135,10 +135,19 @@ sleep 0.5; kill -INT $LOGGER; wait $LOGGER
   EXPECT_EQ(r.counters.accepted, 2403u);
   EXPECT_EQ(r.counters[Rejection::kDecode],
             static_cast<std::uint64_t>(malformed));
-  // The daemon's final state (saved at SIGINT) is the replay's, bit for bit.
+  // The daemon's final state (saved at SIGINT) is the replay's: the same samples, the same fit
+  // (the daemon solves on its own thread and restarted twice, so its statistics were summed in
+  // another order and Levenberg-Marquardt stops elsewhere in the valleys only the prior holds:
+  // identify's stopping rule, a relative cost change of 1e-7, leaves torques within ~3e-4).
   const EstimatorState final_state = LoadEstimatorState((dir / "state.json").string());
   EXPECT_EQ(final_state.counters.accepted(), 2403u);
-  EXPECT_EQ(final_state.x, replayed.estimator().parameters());
+  EXPECT_EQ(final_state.statistics_samples, 2403.0);
+  // RMS torque difference over every sample, from the saved statistics: sqrt(dw^T S dw / c).
+  const int F = model.num_features();
+  ASSERT_EQ(final_state.statistics.rows(), F + 1);
+  const Eigen::VectorXd dw = model.Coefficients(final_state.x) - replayed.coefficients();
+  const double c = final_state.statistics(F, F);
+  EXPECT_LT(std::sqrt(dw.dot(final_state.statistics.topLeftCorner(F, F) * dw) / c), 1e-3);
   // The estimates the daemon published: consistent bodies, residuals near the 0.3 N m noise.
   lcm::LogFile recorded((dir / "recorded.lcm").string(), "r");
   inertial::estimate_t last;

@@ -56,7 +56,11 @@ motors:
     }
     testing::CliRun r = RunCli(sim);
     EXPECT_EQ(r.exit_code, 0) << Describe(r);
-    std::vector<std::string> replay = {"replay", "--model", leg_, "--noise-tau", "0.05", "--diagnose", "--json"};
+    // The online diagnosis as tuned on the Kalman estimator (ekf): with the online fit, the clean
+    // candump stream (12-bit velocities, accelerations from a causal filter) biases the masses
+    // only the prior holds (the thigh's to 19 kg), and the diagnosis takes that for a payload
+    // (issue 36, parts 4 and 7: not done yet).
+    std::vector<std::string> replay = {"replay", "--model", leg_, "--estimator", "ekf", "--noise-tau", "0.05", "--diagnose", "--json"};
     if (candump) {
       replay.insert(replay.end(), {"--candump", log, "--can-config", motors});
     } else {

@@ -8,6 +8,7 @@
 #include "inertial/config/motors_yaml.hpp"
 #include "inertial/estimation/payload_event.hpp"
 #include "inertial/formats/model_file.hpp"
+#include "inertial/report/identification_report.hpp"
 #include "inertial/report/online_diagnosis_report.hpp"
 #include "inertial/report/online_estimate_text.hpp"
 #include "inertial/report/uncertainty_report.hpp"
@@ -38,7 +39,7 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   sub->add_option("--write-log", c->write_log, "estimates as an LCM log of inertial.estimate_t");
   sub->add_option("--write-urdf", c->write_urdf,
                   "the final estimate as a model file (URDF with links, effects, rotors, payloads) for validate --model");
-  sub->add_option("--estimator", c->estimator, "gauss_newton, gradient or linear_rls (default: --config's or gauss_newton)");
+  sub->add_option("--estimator", c->estimator, "gauss_newton (the online fit: the batch objective re-solved from its statistics), ekf (the extended Kalman filter on the parameters), gradient or linear_rls (default: --config's or gauss_newton)");
   sub->add_option("--noise-tau", c->noise_tau,
                   "torque noise standard deviation the estimator assumes [N m] (default: --config's or 1)");
   sub->add_option("--publish-rate", c->publish_rate,
@@ -124,6 +125,40 @@ int CheckMotorsFitModel(const ReplayCommand& c, const ReplayOptions& options, co
 
 // The log through the estimator; with `diagnosis`, each accepted sample and the estimator's residual
 // before its update go to it (a detected change restarts its statistics); payload events into *events.
+// The final estimate for --json: the bodies (mass, COM, inertia; with the standard deviations and
+// "held by the prior" where the estimator has them) and the effect coefficients, as identify's
+// JSON gives them; with the online fit, its per-joint noise.
+nlohmann::json FinalEstimateJson(const OnlineJointEstimator& estimator) {
+  const RobotDynamics& model = estimator.model();
+  nlohmann::json j = {{"estimator", std::string(ToString(estimator.kind()))}};
+  if (estimator.kind() == EstimatorKind::kLinearRls) return j;  // no per-body parameters
+  const Eigen::VectorXd& x = estimator.estimator().parameters();
+  j["bodies"] = BodiesJson(model, x);
+  j["effects"] = EffectsJson(model, x);
+  if (const std::optional<ModelUncertainty> u = FromOnlineEstimator(estimator)) {
+    j["uncertainty_source"] = u->source;
+    for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+      j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(u->bodies[e], u->held.empty() ? nullptr : &u->held[e]);
+    }
+    for (int k = 0; k < static_cast<int>(model.effects().size()) && k < static_cast<int>(u->effects.size()); ++k) {
+      const std::vector<std::string> names = EffectValueNames(model.effects()[k].kind);
+      nlohmann::json stds = nlohmann::json::object();
+      for (std::size_t i = 0; i < names.size() && i < u->effects[k].size(); ++i) {
+        const double sd = u->effects[k][i];
+        stds[names[i]] = std::isfinite(sd) ? nlohmann::json(sd) : nlohmann::json("inf");
+      }
+      j["effects"][k]["std"] = stds;
+    }
+  }
+  if (const OnlineFit* fit = estimator.fit()) {
+    nlohmann::json noise = nlohmann::json::object();
+    for (int k = 0; k < model.num_dofs(); ++k) noise[model.dof_names()[k]] = fit->noise()[k];
+    j["noise"] = noise;
+    j["solves"] = fit->solves();
+  }
+  return j;
+}
+
 int Replay(const std::string& path, OnlineJointEstimator* estimator, const ReplayOptions& options, ReplayResult* r,
            StreamDiagnosis* diagnosis, std::vector<PayloadEvent>* events) {
   try {
@@ -243,6 +278,7 @@ int RunReplayCommand(const ReplayCommand& c) {
       }
     }
     j["payload_events"] = events_json;
+    j["estimate"] = FinalEstimateJson(estimator);
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << ReplaySummaryText(path, config.replay, r);

@@ -40,7 +40,7 @@ void AddDaemonOptions(CLI::App& app, inertial::DaemonRequest* r) {
                "start from the priors even if --checkpoint names a file that cannot be restored (it is then "
                "overwritten); without it such a file stops the start and is left untouched");
   app.add_option("--publish-rate", o.publish_rate, "estimates per second (default 10)");
-  app.add_option("--estimator", o.estimator, "gauss_newton (default), gradient or linear_rls");
+  app.add_option("--estimator", o.estimator, "gauss_newton (default: the online fit, the batch objective re-solved from its statistics on a thread of its own), ekf, gradient or linear_rls");
   app.add_option("--noise-tau", o.noise_tau, "torque noise standard deviation the estimator assumes [N m] (default 1)");
   app.add_option("--write-urdf", r->write_urdf,
                  "write the current estimate as a model file (URDF: links, effects, rotors, payloads) at exit and on "

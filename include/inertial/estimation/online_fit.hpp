@@ -168,7 +168,7 @@ class OnlineFit final : public RecursiveEstimator {
  private:
   void Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, double lambda);
   void Empty();
-  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, bool buffered);
 
   RobotDynamics model_;
   OnlineFitOptions options_;
@@ -183,6 +183,9 @@ class OnlineFit final : public RecursiveEstimator {
   Eigen::VectorXd ones_, d_, r_;
   /// Samples held for the next solve: the warm-up, and those the gate refused since the last solve.
   Eigen::MatrixXd pending_rows_, pending_y_;
+  /// Per held sample: 1 if the tick returned kBuffered (its fate is counted when judged), 0 for a
+  /// warm-up sample (counted accepted at the tick).
+  Eigen::Matrix<char, Eigen::Dynamic, 1> pending_buffered_;
   int pending_count_ = 0, capacity_ = 0;
   static constexpr int kPendingSolve = 4;
   Eigen::MatrixXd window_r_, window_y_;
