@@ -544,7 +544,9 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
         try {
           const OnlineFitSolution solution = SolveOnlineFit(robot_->model(), *snapshot, robot_->fit()->options());
           std::lock_guard<std::mutex> lock(process_mutex_);
+          const UpdateCounters before = robot_->estimator().counters();
           robot_->Adopt(solution);
+          pipeline_->Reconcile(before);
         } catch (const std::exception& e) {
           if (FirstTime("solve")) Log(LogLevel::kError, std::string("the solve failed: ") + e.what());
         }
@@ -582,7 +584,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
   if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
     std::lock_guard<std::mutex> lock(process_mutex_);
-    robot_->Solve(true);
+    pipeline_->Solve(true);
   }
   Publish(utime());
   FinalDiagnosis(utime());

@@ -1,5 +1,7 @@
 #include "inertial/runtime/sample_pipeline.hpp"
 
+#include <algorithm>
+
 #include <stdexcept>
 
 #include "inertial/model/rigid_body_regressor.hpp"
@@ -95,7 +97,23 @@ SampleCounters TotalCounters(const SampleCounters& decoded, const SampleCounters
 bool SamplePipeline::Solve(bool final) {
   if (robot_ == nullptr || robot_->fit() == nullptr) return false;
   if (!final && !robot_->SolveDue()) return false;
-  return robot_->Solve(final);
+  const UpdateCounters before = robot_->estimator().counters();
+  const bool solved = robot_->Solve(final);
+  Reconcile(before);
+  return solved;
+}
+
+void SamplePipeline::Reconcile(const UpdateCounters& before) {
+  if (robot_ == nullptr) return;
+  const UpdateCounters& after = robot_->estimator().counters();
+  const std::uint64_t kept = after.accepted() - before.accepted();
+  const std::uint64_t refused = after[UpdateStatus::kOutlier] - before[UpdateStatus::kOutlier];
+  // Only held samples are counted by a solve; a warm-up sample it refuses was counted accepted.
+  const std::uint64_t held = std::min<std::uint64_t>(counters_.buffered, kept + refused);
+  const std::uint64_t held_kept = std::min(kept, held);
+  counters_.buffered -= held;
+  counters_.accepted += held_kept;
+  counters_.Reject(Rejection::kOutlier, held - held_kept);
 }
 
 }  // namespace inertial

@@ -47,6 +47,10 @@ class SamplePipeline {
   /// estimate of the whole log: identify's fit). Allocates; not for a real-time loop (inertiald
   /// solves on a thread of its own). True if the estimate changed.
   bool Solve(bool final = false);
+  /// After a solve of the online fit adopted elsewhere (inertiald's solver thread), given the
+  /// estimator's counters from before it: the samples the gate held (counted buffered here) and
+  /// the solve judged are moved to accepted or outlier, as the estimator counted them.
+  void Reconcile(const UpdateCounters& before);
 
   /// received: samples given to Process; accepted, buffered, rejected by reason.
   const SampleCounters& counters() const { return counters_; }
