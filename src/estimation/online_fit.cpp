@@ -279,7 +279,9 @@ JointNormalEquations OnlineFit::Equations() const {
   eq.AtA.triangularView<Eigen::StrictlyUpper>() = eq.AtA.transpose();
   eq.Atb = s_;
   eq.btb = c_;
-  eq.num_samples = static_cast<int>(std::lround(weight_));
+  // The count saturates at 2^31 - 1 samples (25 days at 1 kHz without forgetting); beyond, the
+  // Laplace covariance's noise estimate counts fewer rows than it has (it grows, conservative).
+  eq.num_samples = static_cast<int>(std::min(std::round(weight_), 2147483647.0));
   return eq;
 }
 
@@ -360,7 +362,7 @@ bool OnlineFit::Solve(bool from_start) {
 
 Eigen::MatrixXd OnlineFit::Covariance() const {
   const JointNormalEquations eq = Equations();
-  if (eq.num_samples * m_ <= model_.num_parameters()) return {};
+  if (static_cast<double>(eq.num_samples) * m_ <= model_.num_parameters()) return {};
   try {
     return EstimateFitUncertainty(model_, eq, x_, options_.solve.prior_weight, options_.solve.frozen_bodies).covariance;
   } catch (const std::invalid_argument&) {
@@ -393,6 +395,11 @@ bool OnlineFit::CheckExtra(const EstimatorState& state, std::string* why) const 
   }
   if (!M.allFinite() || !std::isfinite(state.statistics_samples) || state.statistics_samples < 0) {
     if (why != nullptr) *why = "its statistics hold non-finite or negative numbers";
+    return false;
+  }
+  // 1e12 samples: 30 years at 1 kHz; more is not a count any stream could have made.
+  if (!(state.statistics_samples <= 1e12)) {
+    if (why != nullptr) *why = "its statistics claim more than 1e12 samples";
     return false;
   }
   const double scale = M.cwiseAbs().maxCoeff();

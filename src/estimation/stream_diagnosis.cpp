@@ -13,7 +13,9 @@ std::vector<OnlineBodyState> BodyStatesOf(const OnlineJointEstimator& estimator)
     // diagnosis takes it (fit_uncertainty.hpp; undetermined directions left out).
     std::vector<OnlineBodyState> states = OnlineBodyStates(estimator.model(), fit->parameters(), {}, false);
     const JointNormalEquations eq = fit->Equations();
-    if (eq.num_samples * estimator.model().num_dofs() <= estimator.model().num_parameters()) return states;
+    if (static_cast<double>(eq.num_samples) * estimator.model().num_dofs() <= estimator.model().num_parameters()) {
+      return states;
+    }
     try {
       const FitUncertainty u = EstimateFitUncertainty(estimator.model(), eq, fit->parameters(),
                                                       fit->options().solve.prior_weight, fit->options().solve.frozen_bodies);
