@@ -45,16 +45,11 @@ bool WithinGate(const Eigen::VectorXd& r, const Eigen::VectorXd& center, const E
 // prediction a^T w that the estimate's own uncertainty adds to the noise. Directions nothing
 // determines (infinite variance) get 1e200 on the diagonal: a gate open for the samples that
 // excite them, since nothing can be judged there.
-Eigen::MatrixXd PredictionCovariance(const RobotDynamics& model, const JointNormalEquations& eq, const Eigen::VectorXd& x,
-                                     const JointIdentificationOptions& fit) {
+Eigen::MatrixXd PredictionCovariance(const RobotDynamics& model, const FitUncertainty* u, const Eigen::VectorXd& x) {
   const int F = model.num_features(), P = model.num_parameters();
   constexpr double kOpen = 1e200;
-  Eigen::MatrixXd C_x;
-  try {
-    C_x = EstimateFitUncertainty(model, eq, x, fit.prior_weight, fit.frozen_bodies).covariance;
-  } catch (const std::invalid_argument&) {  // no residual degrees of freedom yet
-    return Eigen::MatrixXd::Identity(F, F) * kOpen;
-  }
+  if (u == nullptr) return Eigen::MatrixXd::Identity(F, F) * kOpen;  // no residual degrees of freedom yet
+  Eigen::MatrixXd C_x = u->covariance;
   for (int i = 0; i < P; ++i) {
     for (int j = 0; j < P; ++j) {
       if (!std::isfinite(C_x(i, j))) C_x(i, j) = i == j ? kOpen : 0.0;
@@ -136,7 +131,12 @@ OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnap
   }
   sol.x = result.x;
   sol.lm = result.lm;
-  sol.prediction_covariance = PredictionCovariance(model, eq, sol.x, fit);
+  try {
+    sol.uncertainty = std::make_shared<const FitUncertainty>(
+        EstimateFitUncertainty(model, eq, sol.x, fit.prior_weight, fit.frozen_bodies));
+  } catch (const std::invalid_argument&) {  // no residual degrees of freedom yet
+  }
+  sol.prediction_covariance = PredictionCovariance(model, sol.uncertainty.get(), sol.x);
   return sol;
 }
 
@@ -175,7 +175,6 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   capacity_ = std::max(options.warmup, options.max_consecutive_outliers);
   pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
   pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
-  pending_buffered_ = Eigen::Matrix<char, Eigen::Dynamic, 1>::Zero(capacity_);
   window_r_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   window_y_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   noise_ = Eigen::VectorXd::Zero(m_);
@@ -194,6 +193,7 @@ void OnlineFit::Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, d
   s_.noalias() += At_.topLeftCorner(F_, m_) * y;
   c_ = lambda * c_ + y.squaredNorm();
   weight_ = lambda * weight_ + 1.0;
+  added_since_solve_ = lambda * added_since_solve_ + 1.0;
 }
 
 UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
@@ -210,8 +210,8 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
       (has_time() && std::isfinite(options_.forgetting_time)) ? std::exp(-(applying_time() - last_time()) / options_.forgetting_time) : 1.0;
   if (!has_scale_) {
     if (pending_count_ < capacity_) {
-      Hold(A, y, false);
-      return UpdateStatus::kAccepted;
+      Hold(A, y);
+      return UpdateStatus::kBuffered;
     }
     // The caller has not solved since the warm-up filled: nothing to judge by yet.
     Accumulate(A, y, lambda);
@@ -230,28 +230,31 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   if (!WithinGate(r_, center_, gate_scale_, gate_)) {
     // Held for the next solve, which judges it with the fit that includes it; a run longer than
     // max_consecutive_outliers is a change of the system: start over from the current estimate.
-    if (++consecutive_ <= options_.max_consecutive_outliers && pending_count_ < capacity_) {
-      Hold(A, y, true);
+    if (++consecutive_ <= options_.max_consecutive_outliers) {
+      if (pending_count_ >= capacity_) return UpdateStatus::kOutlier;  // no room left before the next solve
+      Hold(A, y);
       return UpdateStatus::kBuffered;
     }
     ++changes_;
-    for (int i = 0; i < pending_count_; ++i) {  // the run before the change
-      if (pending_buffered_[i]) CountSample(UpdateStatus::kOutlier);
-    }
+    for (int i = 0; i < pending_count_; ++i) ResolveHeld(false);  // the run before the change
     Empty();
-    Hold(A, y, false);
-    return UpdateStatus::kAccepted;
+    Hold(A, y);
+    return UpdateStatus::kBuffered;
   }
   consecutive_ = 0;
   Accumulate(A, y, lambda);
   return UpdateStatus::kAccepted;
 }
 
-void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, bool buffered) {
+void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
   pending_rows_.middleCols(static_cast<Eigen::Index>(pending_count_) * m_, m_) = A.transpose();
   pending_y_.col(pending_count_) = y;
-  pending_buffered_[pending_count_] = buffered ? 1 : 0;
   ++pending_count_;
+}
+
+void OnlineFit::ResolveHeld(bool kept) {
+  Resolve(kept ? UpdateStatus::kAccepted : UpdateStatus::kOutlier);
+  ++(kept ? held_kept_ : held_refused_);
 }
 
 void OnlineFit::Empty() {
@@ -262,15 +265,19 @@ void OnlineFit::Empty() {
   pending_count_ = 0;
   has_scale_ = false;
   consecutive_ = 0;
-  samples_at_solve_ = 0.0;
+  added_since_solve_ = 0.0;
   ++generation_;
 }
 
 bool OnlineFit::solve_due() const {
-  if (!has_scale_) return pending_count_ >= options_.warmup || (pending_count_ > 0 && weight_ > 0);
+  if (!has_scale_) return pending_count_ >= options_.warmup;
   // Refused samples wait for a solve to judge them: soon, but not at every one of a run.
   if (pending_count_ >= kPendingSolve) return true;
-  return weight_ >= (1.0 + options_.solve_growth) * samples_at_solve_ && weight_ > samples_at_solve_;
+  // Grown by the fraction g since the last solve: the weight added since, decayed as the rest,
+  // is g / (1 + g) of the whole (without forgetting: weight >= (1 + g) weight at the solve; with
+  // it, the same rule stays reachable once the weight saturates at 1 / (1 - lambda)).
+  const double g = options_.solve_growth;
+  return added_since_solve_ > 0.0 && added_since_solve_ >= g / (1.0 + g) * weight_;
 }
 
 JointNormalEquations OnlineFit::Equations() const {
@@ -304,24 +311,32 @@ OnlineFitSnapshot OnlineFit::Snapshot() const {
 }
 
 bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
-  if (sol.x.size() != x_.size() || !sol.x.allFinite()) return false;
-  const Eigen::VectorXd w = model_.Coefficients(sol.x);
-  if (!w.allFinite() || !(w.cwiseAbs().maxCoeff() <= kMaxStateCoefficient)) return false;
-  x_ = sol.x;
-  w_ = w;
-  if (sol.generation != generation_) return true;  // the statistics were emptied meanwhile
+  // An estimate that is not finite or beyond any physical scale is not taken (the last one stays);
+  // the noise, the gate and the held samples' judgement are taken all the same, so that a failed
+  // solve does not leave the solve due at every sample.
+  bool take_x = sol.x.size() == x_.size() && sol.x.allFinite();
+  Eigen::VectorXd w;
+  if (take_x) {
+    w = model_.Coefficients(sol.x);
+    take_x = w.allFinite() && w.cwiseAbs().maxCoeff() <= kMaxStateCoefficient;
+  }
+  if (take_x) {
+    x_ = sol.x;
+    w_ = w;
+    uncertainty_ = sol.uncertainty;
+  }
+  if (sol.generation != generation_) return take_x;  // the statistics were emptied meanwhile
   if (sol.noise.size() == m_) {
-    // The pending samples the solve kept join the statistics (at their weight now: they are
+    // The held samples the solve kept join the statistics (at their weight now: they are
     // recent); those it refused are counted as outliers; those held after the snapshot stay.
     const int judged = std::min(static_cast<int>(sol.pending_kept.size()), pending_count_);
     bool all_kept = true;
     for (int i = 0; i < judged; ++i) {
+      ResolveHeld(sol.pending_kept[i]);
       if (!sol.pending_kept[i]) {
-        CountSample(UpdateStatus::kOutlier);  // (a warm-up sample's: after its acceptance into the warm-up)
         all_kept = false;
         continue;
       }
-      if (pending_buffered_[i]) CountSample(UpdateStatus::kAccepted);  // held as kBuffered by the gate
       At_.topLeftCorner(F_, m_) = pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_);
       ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
       s_.noalias() += At_.topLeftCorner(F_, m_) * pending_y_.col(i);
@@ -333,7 +348,6 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
       pending_rows_.leftCols(static_cast<Eigen::Index>(rest) * m_) =
           pending_rows_.middleCols(static_cast<Eigen::Index>(judged) * m_, static_cast<Eigen::Index>(rest) * m_).eval();
       pending_y_.leftCols(rest) = pending_y_.middleCols(judged, rest).eval();
-      pending_buffered_.head(rest) = pending_buffered_.segment(judged, rest).eval();
     }
     pending_count_ = rest;
     if (all_kept) consecutive_ = 0;
@@ -347,10 +361,10 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
     gate_ = sol.gate;
     has_scale_ = true;
   }
-  solved_ = solved_ || sol.lm.iterations > 0 || sol.lm.x.size() > 0;
-  samples_at_solve_ = weight_;
+  solved_ = solved_ || (take_x && sol.lm.x.size() > 0);
+  added_since_solve_ = 0.0;
   ++solves_;
-  return true;
+  return take_x;
 }
 
 bool OnlineFit::Solve(bool from_start) {
@@ -424,11 +438,9 @@ void OnlineFit::SaveExtra(EstimatorState* state) const {
       state->statistics.selfadjointView<Eigen::Lower>().rankUpdate(v);
     }
     state->statistics_samples += 1.0;
-    if (pending_buffered_[i]) {
-      auto& count = state->counters.count;
-      ++count[static_cast<int>(UpdateStatus::kAccepted)];
-      if (count[static_cast<int>(UpdateStatus::kBuffered)] > 0) --count[static_cast<int>(UpdateStatus::kBuffered)];
-    }
+    auto& count = state->counters.count;  // a held sample is counted buffered until resolved
+    ++count[static_cast<int>(UpdateStatus::kAccepted)];
+    if (count[static_cast<int>(UpdateStatus::kBuffered)] > 0) --count[static_cast<int>(UpdateStatus::kBuffered)];
   }
   state->statistics.triangularView<Eigen::StrictlyUpper>() = state->statistics.transpose();
   state->solved = solved_;
@@ -441,9 +453,11 @@ void OnlineFit::RestoreExtra(const EstimatorState& state) {
   s_ = M.col(F_).head(F_);
   c_ = M(F_, F_);
   weight_ = state.statistics_samples;
-  solved_ = state.solved;
+  // A restored estimate (x not the priors: a checkpoint, or one carried into a model with more
+  // effects, whose statistics start over) is the warm start of the next solve.
+  solved_ = state.solved || !state.x.isZero(0.0);
   // The gate is found again from the next samples (a warm-up): the noise may have changed.
-  samples_at_solve_ = 0.0;
+  added_since_solve_ = 0.0;
   pending_count_ = 0;
   window_count_ = 0;
   window_next_ = 0;

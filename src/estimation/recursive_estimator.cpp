@@ -16,10 +16,10 @@ EstimatorState RecursiveEstimator::State() const {
   s.kind = std::string(kind());
   s.x = parameters();
   s.P = StateCovariance();
-  SaveExtra(&s);
   s.has_time = has_time_;
   s.last_time = last_time_;
   s.counters = counters_;
+  SaveExtra(&s);  // last: it may move held samples' counts (online_fit.hpp)
   return s;
 }
 

@@ -9,21 +9,14 @@ namespace inertial {
 
 std::vector<OnlineBodyState> BodyStatesOf(const OnlineJointEstimator& estimator) {
   if (const OnlineFit* fit = estimator.fit()) {
-    // The online fit: the bodies' uncertainty of the batch objective at its solution, as the batch
-    // diagnosis takes it (fit_uncertainty.hpp; undetermined directions left out).
+    // The online fit: the bodies' uncertainty of the batch objective at its last solve, as the
+    // batch diagnosis takes it (fit_uncertainty.hpp; undetermined directions left out).
     std::vector<OnlineBodyState> states = OnlineBodyStates(estimator.model(), fit->parameters(), {}, false);
-    const JointNormalEquations eq = fit->Equations();
-    if (static_cast<double>(eq.num_samples) * estimator.model().num_dofs() <= estimator.model().num_parameters()) {
-      return states;
-    }
-    try {
-      const FitUncertainty u = EstimateFitUncertainty(estimator.model(), eq, fit->parameters(),
-                                                      fit->options().solve.prior_weight, fit->options().solve.frozen_bodies);
+    if (const auto& u = fit->uncertainty()) {
       for (size_t e = 0; e < states.size(); ++e) {
-        states[e].pi_covariance = u.body_pi_covariance[e];
-        states[e].std = u.bodies[e];
+        states[e].pi_covariance = u->body_pi_covariance[e];
+        states[e].std = u->bodies[e];
       }
-    } catch (const std::invalid_argument&) {
     }
     return states;
   }

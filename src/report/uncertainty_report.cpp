@@ -43,18 +43,12 @@ ModelUncertainty FromFit(const FitUncertainty& fit) {
 std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& estimator) {
   if (const OnlineFit* fit = estimator.fit()) {
     // One uncertainty: the batch objective's Laplace covariance at the online solution, with
-    // "held by the prior", exactly as identify reports it.
-    const JointNormalEquations eq = fit->Equations();
-    try {
-      ModelUncertainty u = FromFit(EstimateFitUncertainty(fit->model(), eq, fit->parameters(),
-                                                          fit->options().solve.prior_weight,
-                                                          fit->options().solve.frozen_bodies));
-      u.source = "from the curvature of the fit of the " + std::to_string(eq.num_samples) + " samples kept, torque noise " +
-                 u.source.substr(u.source.find("noise ") + 6);
-      return u;
-    } catch (const std::invalid_argument&) {
-      return std::nullopt;  // no residual degrees of freedom yet
-    }
+    // "held by the prior", exactly as identify reports it; computed by the last solve (off the
+    // estimator's lock), none before one with residual degrees of freedom.
+    if (!fit->uncertainty()) return std::nullopt;
+    ModelUncertainty u = FromFit(*fit->uncertainty());
+    u.source = "from the curvature of the fit at its last solve, torque noise " + u.source.substr(u.source.find("noise ") + 6);
+    return u;
   }
   const Eigen::MatrixXd P = estimator.estimator().Covariance();
   if (P.size() == 0) return std::nullopt;

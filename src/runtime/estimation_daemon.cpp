@@ -541,15 +541,18 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
           std::this_thread::sleep_for(std::chrono::milliseconds(5));
           continue;
         }
+        bool adopted = false;
         try {
           const OnlineFitSolution solution = SolveOnlineFit(robot_->model(), *snapshot, robot_->fit()->options());
           std::lock_guard<std::mutex> lock(process_mutex_);
-          const UpdateCounters before = robot_->estimator().counters();
-          robot_->Adopt(solution);
-          pipeline_->Reconcile(before);
+          adopted = robot_->Adopt(solution);
+          pipeline_->Reconcile();
         } catch (const std::exception& e) {
           if (FirstTime("solve")) Log(LogLevel::kError, std::string("the solve failed: ") + e.what());
         }
+        // A solve that failed or gave an estimate not taken is not retried at once: a second of
+        // rest keeps a failing solve from taking a core.
+        if (!adopted) std::this_thread::sleep_for(std::chrono::seconds(1));
       }
     });
   }
@@ -584,7 +587,11 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
   if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
     std::lock_guard<std::mutex> lock(process_mutex_);
-    pipeline_->Solve(true);
+    try {
+      pipeline_->Solve(true);
+    } catch (const std::exception& e) {  // the checkpoint and the model are still written
+      Log(LogLevel::kError, std::string("the final solve failed: ") + e.what());
+    }
   }
   Publish(utime());
   FinalDiagnosis(utime());

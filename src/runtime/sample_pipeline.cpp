@@ -57,6 +57,7 @@ SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
   out.status = robot_->Update(sample->joint);
   residual_ = robot_->residual();
   Account(out.status, sample->joint.t);
+  Reconcile();  // a change resolves the held run at the tick
   return out;
 }
 
@@ -97,23 +98,20 @@ SampleCounters TotalCounters(const SampleCounters& decoded, const SampleCounters
 bool SamplePipeline::Solve(bool final) {
   if (robot_ == nullptr || robot_->fit() == nullptr) return false;
   if (!final && !robot_->SolveDue()) return false;
-  const UpdateCounters before = robot_->estimator().counters();
   const bool solved = robot_->Solve(final);
-  Reconcile(before);
+  Reconcile();
   return solved;
 }
 
-void SamplePipeline::Reconcile(const UpdateCounters& before) {
-  if (robot_ == nullptr) return;
-  const UpdateCounters& after = robot_->estimator().counters();
-  const std::uint64_t kept = after.accepted() - before.accepted();
-  const std::uint64_t refused = after[UpdateStatus::kOutlier] - before[UpdateStatus::kOutlier];
-  // Only held samples are counted by a solve; a warm-up sample it refuses was counted accepted.
-  const std::uint64_t held = std::min<std::uint64_t>(counters_.buffered, kept + refused);
-  const std::uint64_t held_kept = std::min(kept, held);
-  counters_.buffered -= held;
-  counters_.accepted += held_kept;
-  counters_.Reject(Rejection::kOutlier, held - held_kept);
+void SamplePipeline::Reconcile() {
+  if (robot_ == nullptr || robot_->fit() == nullptr) return;
+  const OnlineFit& fit = *robot_->fit();
+  const std::uint64_t kept = fit.held_kept() - held_kept_, refused = fit.held_refused() - held_refused_;
+  held_kept_ = fit.held_kept();
+  held_refused_ = fit.held_refused();
+  counters_.buffered -= std::min(counters_.buffered, kept + refused);
+  counters_.accepted += kept;
+  counters_.Reject(Rejection::kOutlier, refused);
 }
 
 }  // namespace inertial

@@ -49,6 +49,9 @@
 #include <cstdint>
 #include <limits>
 
+#include <memory>
+
+#include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/estimation/joint_identification.hpp"
 #include "inertial/estimation/recursive_estimator.hpp"
 #include "inertial/model/robot_dynamics.hpp"
@@ -102,6 +105,9 @@ struct OnlineFitSolution {
   double gate = 0.0;       ///< k
   std::vector<bool> pending_kept;  ///< per held sample: within the gate of the fit that includes it
   Eigen::MatrixXd prediction_covariance;  ///< C_w (F x F) of the coefficients at x (the gate's)
+  /// The Laplace uncertainty at x (EstimateFitUncertainty of the statistics solved), or null before
+  /// there are residual degrees of freedom.
+  std::shared_ptr<const FitUncertainty> uncertainty;
   DenseLevenbergMarquardtResult lm;
   std::uint64_t generation = 0;
 };
@@ -146,6 +152,12 @@ class OnlineFit final : public RecursiveEstimator {
   const OnlineFitOptions& options() const { return options_; }
   /// The normalized statistics (allocates).
   JointNormalEquations Equations() const;
+  /// The uncertainty computed by the last solve adopted (null before one): what reports read
+  /// without recomputing it (an O(P^3) eigen-decomposition) under the estimator's lock.
+  const std::shared_ptr<const FitUncertainty>& uncertainty() const { return uncertainty_; }
+  /// Held samples resolved by solves so far: kept and refused (counted buffered until then).
+  std::uint64_t held_kept() const { return held_kept_; }
+  std::uint64_t held_refused() const { return held_refused_; }
   /// Per-joint noise scale s_j of the last solve (zeros before it) [N m or N].
   const Eigen::VectorXd& noise() const { return noise_; }
   bool solved() const { return solved_; }
@@ -168,7 +180,8 @@ class OnlineFit final : public RecursiveEstimator {
  private:
   void Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, double lambda);
   void Empty();
-  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, bool buffered);
+  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  void ResolveHeld(bool kept);
 
   RobotDynamics model_;
   OnlineFitOptions options_;
@@ -183,9 +196,6 @@ class OnlineFit final : public RecursiveEstimator {
   Eigen::VectorXd ones_, d_, r_;
   /// Samples held for the next solve: the warm-up, and those the gate refused since the last solve.
   Eigen::MatrixXd pending_rows_, pending_y_;
-  /// Per held sample: 1 if the tick returned kBuffered (its fate is counted when judged), 0 for a
-  /// warm-up sample (counted accepted at the tick).
-  Eigen::Matrix<char, Eigen::Dynamic, 1> pending_buffered_;
   int pending_count_ = 0, capacity_ = 0;
   static constexpr int kPendingSolve = 4;
   Eigen::MatrixXd window_r_, window_y_;
@@ -193,7 +203,9 @@ class OnlineFit final : public RecursiveEstimator {
   Eigen::VectorXd noise_, center_;
   double gate_ = 0.0;
   bool solved_ = false, has_scale_ = false;
-  double samples_at_solve_ = 0.0;
+  double added_since_solve_ = 0.0;  ///< weight added since the last solve, decayed as the rest
+  std::shared_ptr<const FitUncertainty> uncertainty_;
+  std::uint64_t held_kept_ = 0, held_refused_ = 0;
   long long residuals_seen_ = 0;
   int consecutive_ = 0, solves_ = 0;
   std::uint64_t changes_ = 0, generation_ = 0;

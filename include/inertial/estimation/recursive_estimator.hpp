@@ -101,8 +101,8 @@ class RecursiveEstimator {
       status = apply();
     }
     counters_.Add(status);
-    if (status == UpdateStatus::kAccepted || status == UpdateStatus::kOutlier) {
-      // An outlier is still a valid sample in time: later samples must come after it.
+    if (status == UpdateStatus::kAccepted || status == UpdateStatus::kOutlier || status == UpdateStatus::kBuffered) {
+      // An outlier or a held sample is still a valid sample in time: later ones must come after it.
       has_time_ = true;
       last_time_ = t;
     }
@@ -119,6 +119,11 @@ class RecursiveEstimator {
   virtual void SaveExtra(EstimatorState*) const {}
   virtual bool CheckExtra(const EstimatorState&, std::string*) const { return true; }
   virtual void RestoreExtra(const EstimatorState&) {}
+  /// A sample counted kBuffered is resolved: moved from buffered to `to` (kAccepted or a rejection).
+  void Resolve(UpdateStatus to) {
+    if (counters_.count[static_cast<int>(UpdateStatus::kBuffered)] > 0) --counters_.count[static_cast<int>(UpdateStatus::kBuffered)];
+    counters_.Add(to);
+  }
   /// The time of the sample being applied (valid inside Apply()).
   double applying_time() const { return applying_time_; }
 

@@ -47,10 +47,10 @@ class SamplePipeline {
   /// estimate of the whole log: identify's fit). Allocates; not for a real-time loop (inertiald
   /// solves on a thread of its own). True if the estimate changed.
   bool Solve(bool final = false);
-  /// After a solve of the online fit adopted elsewhere (inertiald's solver thread), given the
-  /// estimator's counters from before it: the samples the gate held (counted buffered here) and
-  /// the solve judged are moved to accepted or outlier, as the estimator counted them.
-  void Reconcile(const UpdateCounters& before);
+  /// The online fit's held samples (counted buffered here when held) that solves have resolved
+  /// since the last call are moved to accepted or outlier (OnlineFit::held_kept / held_refused).
+  /// Process and Solve call it; a driver that adopts solutions itself (inertiald) calls it after.
+  void Reconcile();
 
   /// received: samples given to Process; accepted, buffered, rejected by reason.
   const SampleCounters& counters() const { return counters_; }
@@ -83,6 +83,7 @@ class SamplePipeline {
   Eigen::VectorXd residual_, window_sum_, window_rms_;
   double window_s_, window_start_ = -1.0, last_t_ = 0.0;
   int window_count_ = 0;
+  std::uint64_t held_kept_ = 0, held_refused_ = 0;  ///< the fit's, as of the last Reconcile
   bool window_completed_ = false;
 };
 
