@@ -189,7 +189,10 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   }
   EXPECT_EQ(e.accepted, static_cast<std::int64_t>(s.samples.size()));
   EXPECT_EQ(e.rejected, static_cast<std::int64_t>(c.samples.total_rejected()));
-  EXPECT_NEAR(e.bodies[2].pi[0], direct.Body(2).mass(), 0.1 * direct.Body(2).mass());  // published before the final solve
+  // Published before the final solve, from whichever solve the solver thread had adopted by then
+  // (under the sanitizers, seconds staler): a plausible mass, not the final one.
+  EXPECT_GT(e.bodies[2].pi[0], 0.5 * direct.Body(2).mass());
+  EXPECT_LT(e.bodies[2].pi[0], 2.0 * direct.Body(2).mass());
   ASSERT_EQ(e.num_channels, 3);
   for (double r : e.residual_rms) {
     EXPECT_GT(r, 0.2);
