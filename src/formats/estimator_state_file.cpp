@@ -20,6 +20,17 @@ namespace {
 constexpr const char* kFormat = "inertial-estimator-state";
 constexpr int kVersion = 1;
 
+// A matrix as a JSON array of its rows.
+nlohmann::json RowsJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < m.rows(); ++r) {
+    std::vector<double> row(m.cols());
+    for (int c = 0; c < m.cols(); ++c) row[c] = m(r, c);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 }  // namespace
 
 std::string EstimatorStateToJson(const EstimatorState& s, const std::string& model_description) {
@@ -29,21 +40,9 @@ std::string EstimatorStateToJson(const EstimatorState& s, const std::string& mod
   j["kind"] = s.kind;
   j["model"] = model_description;
   j["x"] = std::vector<double>(s.x.data(), s.x.data() + s.x.size());
-  nlohmann::json P = nlohmann::json::array();
-  for (int r = 0; r < s.P.rows(); ++r) {
-    std::vector<double> row(s.P.cols());
-    for (int c = 0; c < s.P.cols(); ++c) row[c] = s.P(r, c);
-    P.push_back(row);
-  }
-  j["P"] = P;
+  j["P"] = RowsJson(s.P);
   if (s.statistics.size() > 0) {  // the online fit's sufficient statistics (online_fit.hpp)
-    nlohmann::json M = nlohmann::json::array();
-    for (int r = 0; r < s.statistics.rows(); ++r) {
-      std::vector<double> row(s.statistics.cols());
-      for (int c = 0; c < s.statistics.cols(); ++c) row[c] = s.statistics(r, c);
-      M.push_back(row);
-    }
-    j["statistics"] = M;
+    j["statistics"] = RowsJson(s.statistics);
     j["statistics_samples"] = s.statistics_samples;
     j["solved"] = s.solved;
   }
