@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "inertial/estimation/savitzky_golay.hpp"
+#include "inertial/signal/savitzky_golay.hpp"
 #include "inertial/formats/joint_csv.hpp"
 
 namespace inertial {

@@ -29,10 +29,10 @@
 #include <vector>
 
 #include "examples/bundled_robots.hpp"
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
-#include "inertial/estimation/payload_event.hpp"
-#include "inertial/estimation/stream_diagnosis.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
+#include "inertial/diagnosis/payload_event.hpp"
+#include "inertial/diagnosis/stream_diagnosis.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"

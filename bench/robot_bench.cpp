@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "inertial/estimation/joint_diagnosis.hpp"
+#include "inertial/diagnosis/joint_diagnosis.hpp"
 #include "inertial/report/identification_report.hpp"
 #include "source_dir.hpp"
 

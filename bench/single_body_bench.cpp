@@ -2,8 +2,8 @@
 // (62 midpoint residuals of eq. 13, 372 rows), per parameterization, on a Section VI body.
 #include <benchmark/benchmark.h>
 
-#include "inertial/estimation/levenberg_marquardt.hpp"
-#include "inertial/estimation/linear_least_squares.hpp"
+#include "inertial/estimation/batch/levenberg_marquardt.hpp"
+#include "inertial/estimation/batch/linear_least_squares.hpp"
 #include "inertial/inertia/eigenvalue_parameterization.hpp"
 #include "inertial/inertia/exponential_parameterization.hpp"
 #include "inertial/inertia/linear_parameterization.hpp"

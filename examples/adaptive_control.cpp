@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "bundled_robots.hpp"  // next to this file
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/joint_simulation.hpp"
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The embedded target: cross-compiles the core (inertia, model, estimation, study), its tests and
+# The embedded target: cross-compiles the core (inertia, model, signal, estimation, diagnosis, study), its tests and
 # the benchmarks (bench/inertial_bench: per-tick latency) for 64-bit Arm into ./build-aarch64, then
 # runs the core's tests under qemu-aarch64 (CTest prepends the emulator; cmake/aarch64-linux-gnu.cmake).
 # Installs what it needs from Debian first: the cross compiler, qemu-user, and the arm64 GoogleTest

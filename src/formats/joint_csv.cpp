@@ -1,6 +1,6 @@
 #include "inertial/formats/joint_csv.hpp"
 
-#include "inertial/estimation/log_differentiation.hpp"
+#include "inertial/signal/log_differentiation.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -315,7 +315,7 @@ class Parser {
                                 (report_.skipped_rows > kListedBadLines ? ", ..." : "") + "; the first: " + first_reason_);
     }
     ScaleTimeStamps(samples.t, options_.time_scale, source_ + ": " + Column(used_[static_cast<std::size_t>(time_slot_)].column));
-    // Derivatives of q are the preprocessing stage's (estimation/log_differentiation.hpp): the
+    // Derivatives of q are the preprocessing stage's (signal/log_differentiation.hpp): the
     // missing columns are zero here and the report says which.
     if (derive_qd_) samples.qd.setZero();
     if (derive_qdd_) samples.qdd.setZero();

@@ -7,7 +7,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/diagnosis_report.hpp"
-#include "inertial/estimation/outlier_rejection.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/report/identification_report.hpp"
 
 namespace inertial {

@@ -15,8 +15,8 @@
 
 #include <unistd.h>
 
-#include "inertial/estimation/state_entry_names.hpp"
-#include "inertial/estimation/state_extension.hpp"
+#include "inertial/estimation/online/state_entry_names.hpp"
+#include "inertial/estimation/online/state_extension.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/residual_t.hpp"
 #include "inertial/runtime/bounded_queue.hpp"

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "inertial/estimation/rejection.hpp"
+#include "inertial/signal/rejection.hpp"
 
 namespace inertial {
 

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "inertial/estimation/linear_least_squares.hpp"
+#include "inertial/estimation/batch/linear_least_squares.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/positive_eigenvalue_parameterization.hpp"
 #include "inertial/inertia/exponential_parameterization.hpp"

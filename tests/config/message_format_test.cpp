@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "inertial/estimation/stream_preprocessor.hpp"
+#include "inertial/signal/stream_preprocessor.hpp"
 
 #include <cstdio>
 #include <fstream>

@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"
 #include "test_support.hpp"

@@ -12,8 +12,8 @@
 #include <cstdlib>
 #include <new>
 
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/model/fourier_trajectory.hpp"
 #include "inertial/model/rigid_body_regressor.hpp"

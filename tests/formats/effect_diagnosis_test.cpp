@@ -11,8 +11,8 @@
 
 #include <map>
 
-#include "inertial/estimation/joint_diagnosis.hpp"
-#include "inertial/estimation/savitzky_golay.hpp"
+#include "inertial/diagnosis/joint_diagnosis.hpp"
+#include "inertial/signal/savitzky_golay.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/urdf_model.hpp"

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/formats/input_file.hpp"

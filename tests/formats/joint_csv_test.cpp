@@ -1,5 +1,5 @@
 #include "inertial/formats/joint_csv.hpp"
-#include "inertial/estimation/log_differentiation.hpp"
+#include "inertial/signal/log_differentiation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -11,8 +11,8 @@
 #include <memory>
 #include <limits>
 
-#include "inertial/estimation/joint_identification.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "simulated_robot.hpp"

@@ -10,7 +10,7 @@
 #include <limits>
 #include <memory>
 
-#include "inertial/estimation/outlier_rejection.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "simulated_robot.hpp"
 

@@ -3,9 +3,9 @@
 #include <sstream>
 
 #include "fuzz_support.hpp"
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/outlier_rejection.hpp"
-#include "inertial/estimation/sample_glitches.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
+#include "inertial/signal/sample_glitches.hpp"
 #include "inertial/formats/body_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

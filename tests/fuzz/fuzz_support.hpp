@@ -10,7 +10,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/urdf_model.hpp"

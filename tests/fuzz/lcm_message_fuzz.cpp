@@ -7,7 +7,7 @@
 
 #include "fuzz_support.hpp"
 #include "inertial/config/message_format.hpp"
-#include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
 #include "inertial/transport/body_message.hpp"
 #include "inertial/transport/joint_message.hpp"
 

@@ -1,7 +1,7 @@
 // Fuzz harness: a URDF (or model file with <inertial_effects>) through our validation and urdfdom
 // (urdf_model.hpp), then the identification model of what was accepted and one prediction.
 #include "fuzz_support.hpp"
-#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace inertial;

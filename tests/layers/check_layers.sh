@@ -6,9 +6,11 @@
 set -euo pipefail
 cd "${1:?usage: check_layers.sh SOURCE_DIR}"
 
-core="inertia model estimation study"
+core="inertia model signal estimation diagnosis study"
 declare -A allowed=(
-  [inertia]="inertia" [model]="inertia model" [estimation]="inertia model estimation" [study]="$core"
+  [inertia]="inertia" [model]="inertia model" [signal]="inertia model signal"
+  [estimation]="inertia model signal estimation" [diagnosis]="inertia model signal estimation diagnosis"
+  [study]="inertia model signal estimation study"
   [formats]="$core formats" [transport]="$core formats transport" [config]="$core formats transport config"
   [report]="$core formats report" [runtime]="$core formats transport config report runtime")
 # Outside libraries (an include's leading path) and the layers that may use them.

@@ -33,9 +33,10 @@ echo "looked up: $(grep -o '^[A-Za-z0-9_]*_DIR:PATH=[^ ]*' "$work/core-only/CMak
 
 echo "== 2. install the core component alone"
 cmake --install "$build" --prefix "$work/prefix" --component core >"$work/install.log"
-for f in lib/libinertial_inertia.a lib/libinertial_model.a lib/libinertial_estimation.a lib/libinertial_study.a \
+for f in lib/libinertial_inertia.a lib/libinertial_model.a lib/libinertial_signal.a lib/libinertial_estimation.a \
+         lib/libinertial_diagnosis.a lib/libinertial_study.a \
          lib/cmake/inertial/inertialConfig.cmake lib/cmake/inertial/inertialConfigVersion.cmake \
-         lib/cmake/inertial/inertialCoreTargets.cmake include/inertial/estimation/online_joint_estimator.hpp; do
+         lib/cmake/inertial/inertialCoreTargets.cmake include/inertial/estimation/online/online_joint_estimator.hpp; do
   [ -e "$work/prefix/$f" ] || { echo "FAIL: $f was not installed"; exit 1; }
 done
 if ls -d "$work"/prefix/include/inertial/{formats,transport,config,report,runtime} "$work"/prefix/lib/libinertial_{formats,transport,config,report,runtime}.a 2>/dev/null | grep -q .; then
@@ -50,7 +51,7 @@ echo "== 3. every installed header against the prefix and Eigen only"
 # a header of the installed layers.
 bad=$(cd "$work/prefix/include" && grep -rhoE '^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"][^>"]+[>"]' inertial |
   sed -E 's/.*include[[:space:]]*//' |
-  grep -vE '^<[A-Za-z0-9_]+>$|^<Eigen/[A-Za-z]+>$|^"inertial/(inertia|model|estimation|study)/[a-z0-9_]+\.hpp"$' | sort -u || true)
+  grep -vE '^<[A-Za-z0-9_]+>$|^<Eigen/[A-Za-z]+>$|^"inertial/(inertia|model|signal|estimation|diagnosis|study)/([a-z]+/)?[a-z0-9_]+\.hpp"$' | sort -u || true)
 if [ -n "$bad" ]; then
   echo "FAIL: installed headers include what is not the standard library, Eigen or the core: $bad"
   exit 1

@@ -5,7 +5,7 @@
 // and count, and a checkpoint must restore bit for bit.
 #include <gtest/gtest.h>
 
-#include "inertial/estimation/stream_preprocessor.hpp"
+#include "inertial/signal/stream_preprocessor.hpp"
 #include "inertial/runtime/log_replay.hpp"
 
 #include <lcm/lcm-cpp.hpp>

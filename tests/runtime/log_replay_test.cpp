@@ -4,7 +4,7 @@
 // file:// provider.
 #include <gtest/gtest.h>
 
-#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 #include <thread>

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <iostream>
 
-#include "inertial/estimation/body_diagnosis.hpp"
+#include "inertial/diagnosis/body_diagnosis.hpp"
 #include "inertial/study/paper_study.hpp"
 
 namespace inertial {

@@ -9,7 +9,7 @@
 #include "cli_support.hpp"
 #include "inertial/runtime/estimation_daemon.hpp"
 #include "inertial/formats/estimator_state_file.hpp"
-#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/body_csv.hpp"
 #include "inertial/formats/joint_csv.hpp"

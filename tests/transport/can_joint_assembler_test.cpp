@@ -6,9 +6,9 @@
 
 #include <iostream>
 
-#include "inertial/estimation/causal_acceleration.hpp"
-#include "inertial/estimation/joint_identification.hpp"
-#include "inertial/estimation/stream_preprocessor.hpp"
+#include "inertial/signal/causal_acceleration.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
+#include "inertial/signal/stream_preprocessor.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "simulated_robot.hpp"
 #include "transport/can_support.hpp"

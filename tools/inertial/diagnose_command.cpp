@@ -13,8 +13,8 @@
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/diagnosis_report.hpp"
 #include "inertial/report/validation_report.hpp"
-#include "inertial/estimation/outlier_rejection.hpp"
-#include "inertial/estimation/sample_glitches.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
+#include "inertial/signal/sample_glitches.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 

@@ -62,7 +62,7 @@
 #include <array>
 #include <vector>
 
-#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 
 namespace inertial {

@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "inertial/estimation/recursive_estimator.hpp"
+#include "inertial/estimation/online/recursive_estimator.hpp"
 
 namespace inertial {
 

@@ -16,7 +16,7 @@
 /// - If qd_J is missing for any joint, all velocities are to be derived from q, for consistency:
 ///   the reader only reads, so it returns qd as zeros, sets report.missing_qd, and a notice says so
 ///   (also naming any qd columns thereby ignored); the same, independently, for qdd. Deriving is
-///   the preprocessing stage's: DeriveFromPositions (estimation/log_differentiation.hpp, a
+///   the preprocessing stage's: DeriveFromPositions (signal/log_differentiation.hpp, a
 ///   Savitzky-Golay fit of q with options.differentiation), which ReadJointLog below applies.
 /// - A row with the same t as the previous accepted row: dropped if its used values are all
 ///   identical to that row's (counted in a notice); otherwise an error (a bad row).
@@ -36,7 +36,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/savitzky_golay.hpp"
+#include "inertial/signal/savitzky_golay.hpp"
 #include "inertial/model/joint_samples.hpp"
 
 namespace inertial {

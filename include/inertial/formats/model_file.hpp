@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/formats/urdf_model.hpp"
 #include "inertial/model/robot_dynamics.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/joint_identification.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
 
 namespace inertial {
 

@@ -21,9 +21,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "inertial/estimation/body_diagnosis.hpp"
-#include "inertial/estimation/joint_diagnosis.hpp"
-#include "inertial/estimation/residual_analysis.hpp"
+#include "inertial/diagnosis/body_diagnosis.hpp"
+#include "inertial/diagnosis/joint_diagnosis.hpp"
+#include "inertial/diagnosis/residual_analysis.hpp"
 
 namespace inertial {
 

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "inertial/estimation/fit_uncertainty.hpp"
-#include "inertial/estimation/identifiability.hpp"
-#include "inertial/estimation/joint_identification.hpp"
-#include "inertial/estimation/outlier_rejection.hpp"
+#include "inertial/estimation/batch/identifiability.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/urdf_model.hpp"
 
@@ -28,7 +28,7 @@ struct IdentificationRun {
   TorqueErrors prior_train, fit_train;
   std::optional<TorqueErrors> prior_validation, fit_validation;
   IdentifiabilityReport identifiability;
-  /// Training rows left out as outliers (outlier_rejection.hpp); the training errors are of the kept rows.
+  /// Training rows left out as outliers (robust_identification.hpp); the training errors are of the kept rows.
   OutlierReport outliers;
   /// Standard deviations (fit_uncertainty.hpp); nullopt with the reason when they cannot be had
   /// (no residual degrees of freedom).

@@ -1,5 +1,5 @@
 /// @file online_diagnosis_report.hpp
-/// What the online diagnosis (estimation/online_diagnosis.hpp) says, for people and scripts: the
+/// What the online diagnosis (diagnosis/online_diagnosis.hpp) says, for people and scripts: the
 /// ranked suggestions with their one-line explanations (inertiald's log at exit, replay --diagnose)
 /// and JSON (replay --diagnose --json: `suggestions`, each with `effect` and `joint` or `link`, as
 /// `inertial diagnose --json` has them). Units: N m, rad, s, kg, m.
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "inertial/estimation/online_diagnosis.hpp"
+#include "inertial/diagnosis/online_diagnosis.hpp"
 
 namespace inertial {
 

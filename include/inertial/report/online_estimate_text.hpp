@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 
 namespace inertial {
 

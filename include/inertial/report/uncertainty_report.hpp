@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "inertial/estimation/fit_uncertainty.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/formats/model_file.hpp"
 
 namespace inertial {

@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "inertial/estimation/joint_identification.hpp"
-#include "inertial/estimation/residual_analysis.hpp"
+#include "inertial/estimation/batch/joint_identification.hpp"
+#include "inertial/diagnosis/residual_analysis.hpp"
 #include "inertial/model/body_effect_model.hpp"
 #include "inertial/model/robot_dynamics.hpp"
 

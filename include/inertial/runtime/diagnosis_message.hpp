@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "inertial/estimation/online_diagnosis.hpp"
-#include "inertial/estimation/payload_event.hpp"
+#include "inertial/diagnosis/online_diagnosis.hpp"
+#include "inertial/diagnosis/payload_event.hpp"
 
 namespace inertial {
 

@@ -12,9 +12,9 @@
 
 #include <Eigen/Core>
 
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
-#include "inertial/estimation/rejection.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
+#include "inertial/signal/rejection.hpp"
 #include "inertial/runtime/sample_pipeline.hpp"
 
 namespace inertial {

@@ -24,13 +24,13 @@
 #include <string>
 
 #include "inertial/config/daemon_config.hpp"
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
-#include "inertial/estimation/payload_event.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
+#include "inertial/diagnosis/payload_event.hpp"
 #include "inertial/runtime/estimate_message.hpp"
 #include "inertial/runtime/sample_decoder.hpp"
 #include "inertial/runtime/sample_pipeline.hpp"
-#include "inertial/estimation/stream_diagnosis.hpp"
+#include "inertial/diagnosis/stream_diagnosis.hpp"
 #include "inertial/transport/can_bus.hpp"
 
 namespace lcm {

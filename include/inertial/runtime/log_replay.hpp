@@ -14,8 +14,8 @@
 #include <optional>
 #include <string>
 
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/runtime/sample.hpp"
 #include "inertial/runtime/sample_pipeline.hpp"

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
 #include "inertial/runtime/log_replay.hpp"
 
 namespace inertial {

@@ -4,8 +4,8 @@
 /// queue, the replay loop and the pipeline are the same code for a robot and for a body.
 #pragma once
 
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/model/body_sample.hpp"
+#include "inertial/model/joint_samples.hpp"
 
 namespace inertial {
 

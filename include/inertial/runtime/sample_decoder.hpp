@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/rejection.hpp"
+#include "inertial/signal/rejection.hpp"
 #include "inertial/runtime/sample.hpp"
 #include "inertial/transport/can_bus.hpp"
 #include "inertial/transport/can_joint_assembler.hpp"

@@ -16,10 +16,10 @@
 
 #include <Eigen/Core>
 
-#include "inertial/estimation/online_body_estimator.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
-#include "inertial/estimation/rejection.hpp"
-#include "inertial/estimation/stream_preprocessor.hpp"
+#include "inertial/estimation/online/online_body_estimator.hpp"
+#include "inertial/estimation/online/online_joint_estimator.hpp"
+#include "inertial/signal/rejection.hpp"
+#include "inertial/signal/stream_preprocessor.hpp"
 #include "inertial/runtime/sample.hpp"
 
 namespace inertial {

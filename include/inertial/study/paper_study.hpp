@@ -30,7 +30,7 @@
 #include <string_view>
 #include <vector>
 
-#include "inertial/estimation/levenberg_marquardt.hpp"
+#include "inertial/estimation/batch/levenberg_marquardt.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/model/rigid_body_simulation.hpp"
 

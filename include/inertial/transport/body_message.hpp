@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/online_body_estimator.hpp"
+#include "inertial/model/body_sample.hpp"
 #include "inertial/transport/joint_message.hpp"
 
 namespace inertial {

@@ -13,8 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/rejection.hpp"
-#include "inertial/estimation/online_joint_estimator.hpp"
+#include "inertial/signal/rejection.hpp"
 #include "inertial/transport/motor_codec.hpp"
 #include "inertial/model/joint_samples.hpp"
 

@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "inertial/estimation/rejection.hpp"
+#include "inertial/signal/rejection.hpp"
 #include "inertial/transport/can_frame.hpp"
 
 namespace inertial {

@@ -1,0 +1,104 @@
+/// @file online_joint_estimator.hpp
+/// The online estimator of a robot from joint-space samples (q, qd, qdd, tau of every DOF, in the
+/// model's DOF order): per sample, the features A(q, qd, qdd) of RobotDynamics (joint-torque
+/// regressor of every link and rotor, effect features) computed without allocation, then one
+/// update of the chosen estimator:
+///   - gauss_newton (the default): the batch objective's sufficient statistics, re-solved by
+///     Gauss-Newton / Levenberg-Marquardt off the tick (online_fit.hpp): the estimate is identify's
+///     fit of the samples so far; Solve() runs the solve (when SolveDue(), or from another thread
+///     through fit());
+///   - ekf: the extended Kalman filter on x (recursive_gauss_newton.hpp), one linearization per
+///     sample: kept for comparison and for the single body;
+///   - gradient: the gradient law; linear_rls: least squares on pi, the baseline.
+/// Update() never allocates and never throws; a bad sample is rejected and counted.
+#pragma once
+
+#include <memory>
+
+#include "inertial/estimation/online/gradient_estimator.hpp"
+#include "inertial/estimation/online/linear_rls.hpp"
+#include "inertial/estimation/online/online_fit.hpp"
+#include "inertial/estimation/online/recursive_gauss_newton.hpp"
+#include "inertial/model/joint_samples.hpp"
+#include "inertial/model/robot_dynamics.hpp"
+
+namespace inertial {
+
+enum class EstimatorKind { kGaussNewton, kEkf, kGradient, kLinearRls };
+/// "gauss_newton", "ekf", "gradient", "linear_rls".
+std::string_view ToString(EstimatorKind kind);
+/// @throws std::invalid_argument for any other name.
+EstimatorKind ParseEstimatorKind(std::string_view name);
+
+struct OnlineEstimatorOptions {
+  EstimatorKind kind = EstimatorKind::kGaussNewton;
+  double measurement_sigma = 1.0;  ///< per measurement (N m for joint torques, N and N m for wrenches)
+  double theta_std = 0.3;          ///< initial uncertainty of every log-Cholesky parameter
+  double effect_std = 1.0;         ///< initial uncertainty of every effect parameter (log or linear)
+  double linear_std_scale = 0.3;   ///< linear RLS: initial std of each pi entry, relative to |prior| + 0.01
+  /// Per-parameter initial uncertainty (or scale, for the gradient law), overriding theta_std and
+  /// effect_std when not empty: e.g. small for links known from CAD, large for an unknown payload.
+  Eigen::VectorXd initial_std;
+  KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
+  OnlineFitOptions fit;            ///< gauss_newton of a robot (measurement_sigma, theta_std, effect_std unused)
+  GradientOptions gradient;        ///< measurement_sigma likewise
+};
+
+/// Makes the estimator of `kind` for a model with `layout`, m measurements, starting at x0 (for
+/// linear RLS: at w(x0)); gauss_newton here is the extended Kalman filter (a layout has no
+/// objective to re-solve: OnlineJointEstimator makes the OnlineFit itself).
+/// @throws std::invalid_argument as the constructors.
+std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout& layout, int num_measurements,
+                                                           const Eigen::VectorXd& x0,
+                                                           const OnlineEstimatorOptions& options);
+
+class OnlineJointEstimator {
+ public:
+  /// @param x0 RobotDynamics parameters to start from (zeros: the URDF priors, or a batch fit).
+  /// @throws std::invalid_argument for a wrong-size x0 or bad options.
+  OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineEstimatorOptions& options = {});
+
+  UpdateStatus Update(const JointSample& sample);
+  /// gauss_newton: the statistics have grown enough since the last solve (OnlineFit::solve_due);
+  /// false for the other estimators, which solve within Update().
+  bool SolveDue() const { return fit_ != nullptr && fit_->solve_due(); }
+  /// gauss_newton: re-solves the objective now (allocates: off the tick) and takes its estimate,
+  /// warm-started or from identify's start (OnlineFit::Solve). Returns false if there was nothing
+  /// to solve; the other estimators: false, nothing done.
+  bool Solve(bool from_start = false);
+  /// gauss_newton solved on another thread: OnlineFit::Adopt of a solution of fit()->Snapshot(),
+  /// and the coefficients this adapter keeps follow. False (nothing changed) if not adopted.
+  bool Adopt(const OnlineFitSolution& solution);
+  /// The OnlineFit of gauss_newton, or null.
+  const OnlineFit* fit() const { return fit_; }
+  OnlineFit* fit() { return fit_; }
+  /// Restores a saved state (RecursiveEstimator::Restore) and the coefficients w(x) this adapter
+  /// keeps for coefficients(), Body() (linear RLS) and the next prediction. Returns false (and *why)
+  /// without changing anything when the state does not fit.
+  bool Restore(const EstimatorState& state, std::string* why);
+
+  const RobotDynamics& model() const { return model_; }
+  const RecursiveEstimator& estimator() const { return *estimator_; }
+  RecursiveEstimator& estimator() { return *estimator_; }
+  EstimatorKind kind() const { return kind_; }
+  /// The current coefficients w (every tree body's pi, effect coefficients). Allocation-free.
+  const Eigen::VectorXd& coefficients() const { return w_; }
+  /// Estimated body e (RobotDynamics::bodies() order) in its report frame. For linear RLS, which
+  /// has no per-body parameters, the tree body's pi (payloads merged into their link).
+  InertialParams Body(int e) const;
+  /// Torques predicted by the current estimate for the last sample given, and its residual
+  /// (measured - predicted); zero before the first.
+  const Eigen::VectorXd& predicted() const { return tau_hat_; }
+  const Eigen::VectorXd& residual() const { return residual_; }
+
+ private:
+  RobotDynamics model_;
+  EstimatorKind kind_;
+  std::unique_ptr<RecursiveEstimator> estimator_;
+  OnlineFit* fit_ = nullptr;  ///< estimator_ when it is one
+  TreeWorkspace workspace_;
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd w_, tau_hat_, residual_;
+};
+
+}  // namespace inertial

@@ -1,0 +1,827 @@
+#include "inertial/diagnosis/joint_diagnosis.hpp"
+
+#include <Eigen/Cholesky>
+
+#include "inertial/diagnosis/explained_error.hpp"
+#include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/diagnosis/friction_shape.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
+#include "inertial/signal/trajectory_overlap.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <limits>
+#include <map>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <unordered_map>
+
+namespace inertial {
+namespace {
+
+// The statistics of `eq` restricted to the features `index` (rows and columns).
+JointNormalEquations Restrict(const JointNormalEquations& eq, const std::vector<int>& index) {
+  const int F = static_cast<int>(index.size());
+  JointNormalEquations out;
+  out.AtA.resize(F, F);
+  out.Atb.resize(F);
+  for (int i = 0; i < F; ++i) {
+    out.Atb[i] = eq.Atb[index[i]];
+    for (int j = 0; j < F; ++j) out.AtA(i, j) = eq.AtA(index[i], index[j]);
+  }
+  out.btb = eq.btb;
+  out.num_samples = eq.num_samples;
+  return out;
+}
+
+// Links are the estimated bodies named after a URDF link; rotors ("rotor@j") and payloads
+// ("payload@l") are not.
+std::vector<bool> LinkBodies(const RobotDynamics& model) {
+  std::vector<bool> links(model.bodies().size(), false);
+  for (size_t e = 0; e < links.size(); ++e) links[e] = model.bodies()[e].name.find('@') == std::string::npos;
+  return links;
+}
+
+// hold_links: every link held at its URDF; else only `held_link` (a payload candidate's link), if any.
+// The links a payload among `effects` holds at their URDF: with free links, a link and a payload
+// on it would share the link's regressor columns (only the regularizer would split them), so the
+// payload carries the departure from the URDF, as when it was judged as a candidate.
+std::set<std::string> HeldLinks(const std::vector<EffectSpec>& effects) {
+  std::set<std::string> held;
+  for (const EffectSpec& e : effects) {
+    if (e.kind == EffectKind::kPayload) held.insert(e.target);
+  }
+  return held;
+}
+
+// hold_links: every link held at its URDF; else only the links in `held` (payload candidates' links).
+std::vector<bool> FrozenBodies(const RobotDynamics& model, bool hold_links, const std::set<std::string>& held = {}) {
+  std::vector<bool> frozen = LinkBodies(model);
+  for (size_t e = 0; e < frozen.size(); ++e) {
+    frozen[e] = frozen[e] && (hold_links || held.count(model.bodies()[e].name) > 0);
+  }
+  return frozen;
+}
+
+// A candidate's parameters fitted to the data: its coefficients and, for the friction shapes, the
+// shape fitted before it (friction_shape.hpp).
+int CandidateParameters(EffectKind kind) {
+  return kind == EffectKind::kPayload ? 10 : NumEffectValues(kind) + FrictionShapeParameters(kind);
+}
+
+
+// Dry-friction forms: one per joint. A richer form replaces a simpler one present on its joint
+// (coulomb -> asymmetric or sigmoid) instead of joining it: stacked on one joint their features
+// are nearly collinear (a sigmoid of zero shift is half a Coulomb step; Coulomb is the asymmetric
+// form with equal levels), and their coefficients undetermined.
+bool IsDryFriction(EffectKind kind) {
+  return kind == EffectKind::kCoulomb || kind == EffectKind::kAsymmetric || kind == EffectKind::kSigmoid;
+}
+
+// The effects with every joint effect stated for all joints (no target) written out per joint, so
+// that one joint's term can be replaced.
+std::vector<EffectSpec> PerJoint(const std::vector<EffectSpec>& effects, const std::vector<std::string>& joints) {
+  std::vector<EffectSpec> out;
+  for (const EffectSpec& e : effects) {
+    if (!IsJointEffect(e.kind) || !e.target.empty()) {
+      out.push_back(e);
+      continue;
+    }
+    for (const std::string& j : joints) {
+      EffectSpec one = e;
+      one.target = j;
+      one.text = std::string(ToString(e.kind)) + "@" + j;
+      out.push_back(one);
+    }
+  }
+  return out;
+}
+
+// `effects` with `candidate` added, replacing the dry-friction form it replaces (if any).
+std::vector<EffectSpec> WithCandidate(const std::vector<EffectSpec>& effects, const std::vector<std::string>& joints,
+                                      const EffectSpec& candidate, const std::optional<EffectSpec>& replaced) {
+  std::vector<EffectSpec> with = replaced ? PerJoint(effects, joints) : effects;
+  if (replaced) {
+    with.erase(std::remove_if(with.begin(), with.end(),
+                              [&](const EffectSpec& e) { return e.kind == replaced->kind && e.target == replaced->target; }),
+               with.end());
+  }
+  with.push_back(candidate);
+  return with;
+}
+
+// Every estimated body of the fit against its prior, both in the body's report frame.
+std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const JointNormalEquations& eq,
+                                             const Eigen::VectorXd& x, const JointIdentificationOptions& options,
+                                             double tolerance, std::vector<BodyUncertainty>* stds) {
+  // Margins only shrink departures: the uncertainty (one P x P decomposition) is needed only when
+  // some link departs beyond the tolerance by its estimate alone.
+  // A payload's own standard deviations are reported: always needed with one.
+  bool needed = false;
+  for (size_t e = 0; e < model.bodies().size() && !needed; ++e) {
+    if (!options.frozen_bodies.empty() && options.frozen_bodies[e]) continue;
+    if (model.bodies()[e].name.rfind("payload@", 0) == 0) {
+      needed = true;
+      break;
+    }
+    Eigen::VectorXd x_prior = x;
+    x_prior.segment<10>(10 * static_cast<int>(e)).setZero();
+    try {
+      needed = !MeasurePlausibility(model.BodyInertia(static_cast<int>(e), x),
+                                    model.BodyInertia(static_cast<int>(e), x_prior))
+                    .Within(tolerance);
+    } catch (const std::invalid_argument&) {
+      needed = true;
+    }
+  }
+  FitUncertainty u;
+  try {
+    if (needed) u = EstimateFitUncertainty(model, eq, x, options.prior_weight, options.frozen_bodies);
+  } catch (const std::invalid_argument&) {
+    // No residual degrees of freedom: no margins.
+  }
+  *stds = u.bodies;
+  std::vector<BodyPlausibility> out;
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const int i = static_cast<int>(e);
+    Eigen::VectorXd x_prior = x;
+    x_prior.segment<10>(10 * i).setZero();
+    const InertialParams prior = model.BodyInertia(i, x_prior);
+    DepartureMargins margins;
+    if (e < u.bodies.size() && e < u.body_pi_covariance.size()) {
+      margins = DepartureMarginsOf(prior, u.bodies[e], u.body_pi_covariance[e]);
+    }
+    try {
+      out.push_back(MeasurePlausibility(model.BodyInertia(i, x), prior, margins));
+    } catch (const std::invalid_argument&) {
+      // A body at the edge of the map's range (pi not finite or singular): as implausible as can be.
+      BodyPlausibility p;
+      p.factor = p.raw_factor = std::numeric_limits<double>::infinity();
+      p.divergence = std::numeric_limits<double>::infinity();
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+// One model to fit on restricted statistics.
+struct Job {
+  std::optional<RobotDynamics> model;
+  std::vector<int> features;  // into the catalog's features
+  JointIdentificationOptions options;
+  JointIdentificationResult fit;
+  TorqueErrors validation;
+  std::vector<BodyPlausibility> plausibility;
+  std::vector<BodyUncertainty> stds;  // per estimated body (empty without residual degrees of freedom)
+  double tolerance = kDefaultPriorTolerance;
+};
+
+void RunJob(Job* job, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation) {
+  const JointNormalEquations eq = Restrict(train, job->features);
+  if (job->options.initial.size() == 0) {
+    job->options.initial = DefaultInitialParameters(*job->model, eq, job->options.frozen_bodies);
+  }
+  job->fit = IdentifyJointModel(*job->model, eq, job->options);
+  std::vector<JointNormalEquations> v;
+  v.reserve(validation.size());
+  for (const JointNormalEquations& e : validation) v.push_back(Restrict(e, job->features));
+  job->validation = ErrorsFromNormalEquations(v, job->model->Coefficients(job->fit.x));
+  job->plausibility = PlausibilityOf(*job->model, eq, job->fit.x, job->options, job->tolerance, &job->stds);
+}
+
+void RunJobs(std::vector<Job>& jobs, const JointNormalEquations& train, const std::vector<JointNormalEquations>& validation,
+             int threads) {
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::min<int>(threads, static_cast<int>(jobs.size()));
+  std::atomic<int> next{0};
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+  auto worker = [&]() {
+    for (int k = next++; k < static_cast<int>(jobs.size()) && !failed; k = next++) {
+      try {
+        RunJob(&jobs[k], train, validation);
+      } catch (...) {
+        if (!failed.exchange(true)) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+TorqueErrors ErrorsFromNormalEquations(const std::vector<JointNormalEquations>& jointwise, const Eigen::VectorXd& w) {
+  const int n = static_cast<int>(jointwise.size());
+  if (n == 0 || jointwise[0].num_samples <= 0) throw std::invalid_argument("torque errors: no samples");
+  TorqueErrors e;
+  e.rms.resize(n);
+  e.relative_rms.resize(n);
+  const double N = jointwise[0].num_samples;
+  double sse = 0.0, sst = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double s = SquaredError(jointwise[k], w);
+    e.rms[k] = std::sqrt(s / N);
+    // A joint whose measured torque is all zero has no relative error.
+    e.relative_rms[k] = jointwise[k].btb > 0 ? e.rms[k] / std::sqrt(jointwise[k].btb / N) : std::nan("");
+    sse += s;
+    sst += jointwise[k].btb;
+  }
+  e.total_rms = std::sqrt(sse / (N * n));
+  e.total_relative_rms = std::sqrt(sse / std::max(sst, 1e-300));
+  return e;
+}
+
+namespace {
+
+// What every diagnosis of one pair of logs shares: the statistics of a model holding every
+// candidate (its features hold every model's), the noise's correlation time, the retrace share.
+// IterateJointDiagnosis computes it once for all its steps (each step's models are sub-models of
+// the first step's catalog).
+struct Prepared {
+  // The friction shapes of the candidates, per (kind, joint), fitted once (FitFrictionShapes).
+  std::map<std::pair<EffectKind, std::string>, FrictionShape> shapes;
+  std::map<std::string, double> shape_variance;  // per joint: the residual's variance left by the best shape
+  bool shapes_fitted = false;
+  std::optional<RobotDynamics> catalog;
+  std::unordered_map<std::string, int> index;
+  JointNormalEquations train_eq;                     // the sum of train_jointwise
+  std::vector<JointNormalEquations> train_jointwise;  // per joint: the training RMS without a data pass
+  std::vector<JointNormalEquations> validation_eq;
+  Eigen::VectorXd residual_tau;
+  double retraced = 0.0;
+};
+
+// The residual of a model holding the links (free, linear least squares), the model's effects and
+// viscous friction and an offset on every joint, on at most kShapeSamples training samples evenly
+// spaced (a shape is three numbers at most; the levels are fitted later on every sample); then the
+// shape of every friction kind asked for, per joint (friction_shape.hpp).
+void FitFrictionShapes(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                       const std::vector<EffectKind>& kinds, const JointSamples& train, Prepared* p) {
+  constexpr int kShapeSamples = 4000;
+  p->shapes_fitted = true;
+  std::vector<EffectKind> shaped;
+  for (EffectKind k : kinds) {
+    if (FrictionShapeParameters(k) > 0) shaped.push_back(k);
+  }
+  if (shaped.empty()) return;
+  const RobotDynamics base = make(effects);
+  std::set<std::pair<EffectKind, std::string>> present;
+  for (const EffectTerm& t : base.effects()) present.insert({t.kind, t.joint});
+  std::vector<EffectSpec> with = effects;
+  for (const std::string& joint : base.dof_names()) {
+    for (EffectKind k : {EffectKind::kViscous, EffectKind::kOffset}) {
+      if (present.count({k, joint}) > 0) continue;
+      EffectSpec s;
+      s.kind = k;
+      s.target = joint;
+      s.text = std::string(ToString(k)) + "@" + joint;
+      with.push_back(s);
+    }
+  }
+  const RobotDynamics model = make(with);
+  const int stride = std::max(1, (train.size() + kShapeSamples - 1) / kShapeSamples);
+  const JointSamples sub = SelectSamples(train, RowRange(0, train.size(), stride));
+  const int N = sub.size(), n = model.num_dofs();
+  const JointNormalEquations eq = AccumulateNormalEquations(model, sub);
+  Eigen::MatrixXd H = eq.AtA;
+  H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
+  const Eigen::VectorXd w = H.ldlt().solve(eq.Atb);
+  if (!w.allFinite()) return;  // non-finite data: no shapes (the diagnosis refuses such data later)
+  Eigen::MatrixXd residual(N, n);
+  Eigen::MatrixXd A(n, model.num_features());
+  TreeWorkspace workspace = model.MakeWorkspace();
+  for (int i = 0; i < N; ++i) {
+    model.Features(sub.q.row(i).transpose(), sub.qd.row(i).transpose(), sub.qdd.row(i).transpose(), &workspace, A);
+    residual.row(i) = sub.tau.row(i) - (A * w).transpose();
+  }
+  if (!residual.allFinite() || !sub.qd.allFinite()) return;
+  for (int j = 0; j < n; ++j) {
+    const std::string& joint = model.dof_names()[j];
+    double best = 0.0;
+    for (EffectKind k : shaped) {
+      if (present.count({k, joint}) > 0) continue;
+      const FrictionShape shape = FitFrictionShape(k, joint, sub.qd.col(j), residual.col(j));
+      p->shapes[{k, joint}] = shape;
+      best = std::max(best, shape.gain);
+    }
+    p->shape_variance[joint] = std::max(0.0, residual.col(j).squaredNorm() - best) / N;
+  }
+}
+
+// A friction candidate of a shape: coulomb with its fitted scale (the default where no shape helps);
+// the asymmetric and sigmoid forms only where their shape explains more of the residual than the
+// symmetric Coulomb step does by at least 2 residual variances per extra parameter (Akaike's
+// penalty: a screen that keeps any shape the judgement could accept and drops the joints whose
+// friction is symmetric, each of which would cost a fit).
+std::optional<EffectSpec> ShapedCandidate(const Prepared& p, EffectKind kind, const std::string& joint,
+                                          const EffectSpec& fallback) {
+  const auto it = p.shapes.find({kind, joint});
+  if (it == p.shapes.end() || !(it->second.gain > 0.0)) {
+    if (kind == EffectKind::kCoulomb) return fallback;
+    return std::nullopt;
+  }
+  if (kind != EffectKind::kCoulomb) {
+    const auto coulomb = p.shapes.find({EffectKind::kCoulomb, joint});
+    const double symmetric = coulomb == p.shapes.end() ? 0.0 : coulomb->second.gain;
+    const auto variance = p.shape_variance.find(joint);
+    const int extra = CandidateParameters(kind) - CandidateParameters(EffectKind::kCoulomb);
+    if (variance == p.shape_variance.end() || it->second.gain - symmetric < 2.0 * extra * variance->second) {
+      return std::nullopt;
+    }
+  }
+  EffectSpec s = it->second.spec;
+  s.text = std::string(ToString(kind)) + "@" + joint;
+  return s;
+}
+
+// Rows [begin, begin + count) of a log.
+// Per-joint statistics of a log: blocks of kBlock samples, each accumulated by whichever thread is
+// free, summed in block order, so that the result does not depend on the number of threads (the
+// diagnosis's choices must not change with the machine). Each thread copies one block at a time.
+std::vector<JointNormalEquations> JointwiseInParallel(const RobotDynamics& model, const JointSamples& data, int threads) {
+  constexpr int kBlock = 4096;
+  const int blocks = std::max(1, (data.size() + kBlock - 1) / kBlock);
+  if (data.size() <= kBlock) return AccumulateJointwiseNormalEquations(model, data);
+  threads = std::max(1, std::min(threads, blocks));
+  std::vector<std::vector<JointNormalEquations>> parts(blocks);
+  std::vector<std::exception_ptr> errors(blocks);
+  std::atomic<int> next{0};
+  auto worker = [&]() {
+    for (int k = next++; k < blocks; k = next++) {
+      try {
+        const int begin = k * kBlock, count = std::min(kBlock, data.size() - begin);
+        parts[k] = AccumulateJointwiseNormalEquations(model, SelectSamples(data, RowRange(begin, begin + count)));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  std::vector<JointNormalEquations> sum = parts[0];
+  for (int k = 1; k < blocks; ++k) {
+    for (size_t j = 0; j < sum.size(); ++j) {
+      sum[j].AtA += parts[k][j].AtA;
+      sum[j].Atb += parts[k][j].Atb;
+      sum[j].btb += parts[k][j].btb;
+      sum[j].num_samples += parts[k][j].num_samples;
+    }
+  }
+  return sum;
+}
+
+void PrepareStatistics(const RobotModelFactory& make, const std::vector<EffectSpec>& catalog_effects,
+                       const JointSamples& train, const JointSamples& validation, int threads, Prepared* out) {
+  Prepared& p = *out;
+  p.catalog.emplace(make(catalog_effects));
+  const RobotDynamics& catalog = *p.catalog;
+  const std::vector<std::string> names = catalog.FeatureNames();
+  for (int f = 0; f < static_cast<int>(names.size()); ++f) p.index[names[f]] = f;
+  p.train_jointwise = JointwiseInParallel(catalog, train, threads);
+  p.train_eq = p.train_jointwise[0];
+  for (size_t k = 1; k < p.train_jointwise.size(); ++k) {
+    p.train_eq.AtA += p.train_jointwise[k].AtA;
+    p.train_eq.Atb += p.train_jointwise[k].Atb;
+    p.train_eq.btb += p.train_jointwise[k].btb;
+  }
+  p.validation_eq = JointwiseInParallel(catalog, validation, threads);
+  // The residual's correlation time (candidate_evidence.hpp) is that of the noise: measured on what
+  // the most complete model leaves (every candidate, links free, linear least squares on the
+  // training data), since the model's own residual is coloured by the very effects it lacks.
+  Eigen::MatrixXd H = p.train_eq.AtA;
+  H.diagonal() += 1e-9 * H.diagonal().cwiseAbs().cwiseMax(1e-300);
+  const Eigen::VectorXd w_catalog = H.ldlt().solve(p.train_eq.Atb);
+  const int n = catalog.num_dofs();
+  Eigen::MatrixXd residual(validation.size(), n);
+  Eigen::MatrixXd A(n, catalog.num_features());
+  TreeWorkspace workspace = catalog.MakeWorkspace();
+  for (int i = 0; i < validation.size(); ++i) {
+    catalog.Features(validation.q.row(i).transpose(), validation.qd.row(i).transpose(),
+                     validation.qdd.row(i).transpose(), &workspace, A);
+    residual.row(i) = (A * w_catalog - validation.tau.row(i).transpose()).transpose();
+  }
+  p.residual_tau.resize(n);
+  for (int j = 0; j < n; ++j) p.residual_tau[j] = IntegratedAutocorrelationTime(residual.col(j));
+  p.retraced = RetracedShare(train, validation);
+}
+
+JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                        const std::vector<std::string>& payload_links, const JointSamples& train,
+                        const JointSamples& validation, const JointDiagnosisOptions& options, Prepared* prepared) {
+  const auto start = std::chrono::steady_clock::now();
+  JointDiagnosis out;
+  out.effects = effects;
+  if (!(options.prior_tolerance > 0.0) || !std::isfinite(options.prior_tolerance)) {
+    throw std::invalid_argument("diagnosis: the prior tolerance must be a positive number, not " +
+                                std::to_string(options.prior_tolerance));
+  }
+  out.prior_tolerance = options.prior_tolerance;
+  const RobotDynamics base = make(effects);
+  if (base.num_dofs() == 0) throw std::invalid_argument("diagnosis: the robot has no moving joint");
+  if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
+    throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
+                                std::to_string(static_cast<long>(train.size()) * base.num_dofs()) +
+                                " torque equations, fewer than the model's " + std::to_string(base.num_parameters()) +
+                                " parameters");
+  }
+
+  // The candidates: every catalog effect the model lacks.
+  std::set<std::pair<EffectKind, std::string>> present;
+  std::set<std::string> payloads_present;
+  for (const EffectTerm& t : base.effects()) present.insert({t.kind, t.joint});
+  for (const EffectSpec& s : effects) {
+    if (s.kind == EffectKind::kPayload) payloads_present.insert(s.target);
+  }
+  Prepared local;
+  Prepared& data = prepared != nullptr ? *prepared : local;
+  if (!data.shapes_fitted) FitFrictionShapes(make, effects, options.joint_kinds, train, &data);
+  // The dry-friction form present on each joint (at most one is ever added; a user's list may
+  // hold more, and then no other is offered there).
+  std::map<std::string, EffectSpec> friction_of;
+  std::set<std::string> friction_stacked;
+  for (const EffectSpec& e : PerJoint(effects, base.dof_names())) {
+    if (!IsDryFriction(e.kind)) continue;
+    if (!friction_of.emplace(e.target, e).second) friction_stacked.insert(e.target);
+  }
+  std::vector<EffectSpec> candidates;
+  std::vector<std::optional<EffectSpec>> replaces;  // per candidate: the friction form it replaces
+  for (const std::string& joint : base.dof_names()) {
+    for (EffectKind kind : options.joint_kinds) {
+      if (!IsJointEffect(kind) || present.count({kind, joint}) > 0) continue;
+      std::optional<EffectSpec> replaced;
+      if (IsDryFriction(kind)) {
+        const auto it = friction_of.find(joint);
+        if (it != friction_of.end()) {
+          // Only a richer form replaces Coulomb's step; nothing replaces a richer form.
+          if (it->second.kind != EffectKind::kCoulomb || friction_stacked.count(joint) > 0) continue;
+          replaced = it->second;
+        }
+      }
+      EffectSpec s;
+      s.kind = kind;
+      s.target = joint;
+      s.velocity_scale = options.coulomb_velocity_scale;
+      s.text = std::string(ToString(kind)) + "@" + joint;
+      if (FrictionShapeParameters(kind) > 0) {
+        const std::optional<EffectSpec> shaped = ShapedCandidate(data, kind, joint, s);
+        if (!shaped) continue;
+        s = *shaped;
+      }
+      candidates.push_back(s);
+      replaces.push_back(replaced);
+    }
+  }
+  // Payload candidates come after the model's fit (with free links, only on links it bends).
+  const auto payload_candidate = [&](const std::string& link) {
+    EffectSpec s;
+    s.kind = EffectKind::kPayload;
+    s.target = link;
+    s.text = "payload@" + link;
+    return s;
+  };
+  if (options.hold_links) {
+    for (const std::string& link : payload_links) {
+      if (payloads_present.count(link) == 0) {
+        candidates.push_back(payload_candidate(link));
+        replaces.emplace_back();
+      }
+    }
+  }
+
+  // Every candidate model must be determined by the training data: more torque equations than the
+  // parameters of the largest one (the model with a payload or a spring added).
+  {
+    int largest = 0;
+    for (const EffectSpec& c : candidates) largest = std::max(largest, CandidateParameters(c.kind));
+    if (options.hold_links || options.payloads) largest = std::max(largest, CandidateParameters(EffectKind::kPayload));
+    const long equations = static_cast<long>(train.size()) * base.num_dofs();
+    if (equations <= base.num_parameters() + largest) {
+      throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
+                                  std::to_string(equations) + " torque equations, too few for the " +
+                                  std::to_string(base.num_parameters() + largest) +
+                                  " parameters of the largest model tested (give a longer log)");
+    }
+  }
+  // One model with every joint candidate: its features hold every model's features.
+  std::vector<EffectSpec> catalog_effects = effects;
+  for (const EffectSpec& s : candidates) {
+    if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
+  }
+  const int threads = options.threads > 0 ? options.threads
+                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, threads, &data);
+  auto features_of = [&](const RobotDynamics& m) {
+    std::vector<int> index;
+    for (const std::string& name : m.FeatureNames()) {
+      const auto it = data.index.find(name);
+      if (it == data.index.end()) throw std::logic_error("diagnosis: feature " + name + " not in the catalog");
+      index.push_back(it->second);
+    }
+    return index;
+  };
+  const JointNormalEquations& train_eq = data.train_eq;
+  const std::vector<JointNormalEquations>& validation_eq = data.validation_eq;
+  out.train_samples = train.size();
+  out.validation_samples = validation.size();
+
+  // The model itself, and (when it has effects) the links alone, fitted side by side.
+  std::vector<Job> base_job(effects.empty() ? 1 : 2);
+  base_job[0].model.emplace(base);
+  base_job[0].features = features_of(base);
+  base_job[0].options = options.fit;
+  base_job[0].tolerance = options.prior_tolerance;
+  base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links, HeldLinks(effects));
+  if (!effects.empty()) {
+    Job& links = base_job[1];
+    links.model.emplace(make({}));
+    links.features = features_of(*links.model);
+    links.options = options.fit;
+    links.tolerance = options.prior_tolerance;
+    links.options.frozen_bodies = FrozenBodies(*links.model, options.hold_links);
+  }
+  RunJobs(base_job, train_eq, validation_eq, threads);
+  out.frozen_bodies = base_job[0].options.frozen_bodies;
+  out.fit = base_job[0].fit;
+  out.fit_validation = base_job[0].validation;
+  out.plausibility = base_job[0].plausibility;
+  out.links = LinkBodies(base);
+  for (const EstimatedBody& b : base.bodies()) out.body_names.push_back(b.name);
+  out.implausibility = LinksImplausibility(out.plausibility, out.links, options.prior_tolerance);
+  out.residual_tau = data.residual_tau;
+  out.retraced = data.retraced;
+  if (out.retraced >= kRetracedShare) {
+    out.notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out.retraced))) +
+                        " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
+                        "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
+                        "validate on a different trajectory");
+  }
+  // Free links: a link the fit bends beyond the tolerance may carry a payload.
+  std::set<std::string> payload_tests;
+  if (!options.hold_links && options.payloads) {
+    const std::set<std::string> allowed(payload_links.begin(), payload_links.end());
+    for (size_t e = 0; e < base.bodies().size(); ++e) {
+      const std::string& name = base.bodies()[e].name;
+      if (out.links[e] && !out.plausibility[e].Within(options.prior_tolerance) && allowed.count(name) > 0 &&
+          payloads_present.count(name) == 0) {
+        candidates.push_back(payload_candidate(name));
+        replaces.emplace_back();
+        payload_tests.insert(name);
+      }
+    }
+  }
+  {
+    // The URDF's own prediction: its links alone (no payload or rotor priors, no effects).
+    const RobotDynamics links = make({});
+    std::vector<JointNormalEquations> v;
+    for (const JointNormalEquations& e : validation_eq) v.push_back(Restrict(e, features_of(links)));
+    out.prior_validation = ErrorsFromNormalEquations(v, links.Coefficients(Eigen::VectorXd::Zero(links.num_parameters())));
+    std::vector<JointNormalEquations> t;
+    for (const JointNormalEquations& e : data.train_jointwise) t.push_back(Restrict(e, features_of(base)));
+    out.fit_train = ErrorsFromNormalEquations(t, base.Coefficients(out.fit.x));
+  }
+  if (!std::isfinite(out.fit_validation.total_rms) || !std::isfinite(out.prior_validation.total_rms)) {
+    throw std::invalid_argument("diagnosis: the model's torques are not finite numbers (check gravity, units and "
+                                "the data's magnitudes)");
+  }
+
+  if (!effects.empty()) out.links_only_validation = base_job[1].validation;
+
+  // Each candidate on its own, warm-started from the model's fit.
+  auto named = [](const RobotDynamics& m, const Eigen::VectorXd& x) {
+    std::unordered_map<std::string, double> v;
+    const std::vector<std::string> names = m.ParameterNames();
+    for (int i = 0; i < static_cast<int>(names.size()); ++i) v[names[i]] = x[i];
+    return v;
+  };
+  const std::unordered_map<std::string, double> base_x = named(base, out.fit.x);
+  auto setup = [&](Job& job, const std::vector<EffectSpec>& with, const std::unordered_map<std::string, double>& warm) {
+    job.model.emplace(make(with));
+    job.features = features_of(*job.model);
+    job.options = options.fit;
+    job.tolerance = options.prior_tolerance;
+    job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with));
+    const JointNormalEquations eq = Restrict(train_eq, job.features);
+    job.options.initial = DefaultInitialParameters(*job.model, eq, job.options.frozen_bodies);
+    const std::vector<std::string> names = job.model->ParameterNames();
+    for (int i = 0; i < static_cast<int>(names.size()); ++i) {
+      const auto it = warm.find(names[i]);
+      if (it == warm.end()) continue;
+      // A held link stays at its URDF (theta = 0), whatever the warm start says.
+      const std::vector<bool>& frozen = job.options.frozen_bodies;
+      const bool held = i < 10 * static_cast<int>(frozen.size()) && frozen[i / 10];
+      job.options.initial[i] = held ? 0.0 : it->second;
+    }
+  };
+  std::vector<Job> jobs(candidates.size());
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    setup(jobs[c], WithCandidate(effects, base.dof_names(), candidates[c], replaces[c]), base_x);
+  }
+  RunJobs(jobs, train_eq, validation_eq, options.threads);
+
+  EvidenceRules rules;
+  rules.min_explained = options.min_explained;
+  rules.min_gain = options.min_gain;
+  rules.prior_tolerance = options.prior_tolerance;
+  // A replacement adds the parameters its form has beyond the one it replaces.
+  auto judge = [&](const Job& job, const EffectSpec& spec, const std::optional<EffectSpec>& replaced,
+                   const TorqueErrors& without, double b_without, CandidateResult* r) {
+    r->validation = job.validation;
+    r->plausibility = job.plausibility;
+    r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
+    const int added = CandidateParameters(spec.kind) - (replaced ? CandidateParameters(replaced->kind) : 0);
+    r->evidence = JudgeCandidate(without, job.validation, out.residual_tau, validation.size(), b_without,
+                                 r->implausibility, std::max(1, added),
+                                 spec.kind == EffectKind::kSpring    ? PriorOdds::kRare
+                                 : spec.kind == EffectKind::kPayload ? PriorOdds::kOrdinary
+                                                                     : PriorOdds::kCommon,
+                                 rules);
+    r->explained = r->evidence.explained;
+  };
+  std::vector<int> job_of;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const Job& job = jobs[c];
+    CandidateResult r;
+    r.spec = candidates[c];
+    r.name = candidates[c].text;
+    (candidates[c].kind == EffectKind::kPayload ? r.link : r.joint) = candidates[c].target;
+    if (replaces[c]) r.replaces = EffectItem(*replaces[c]);
+    judge(job, candidates[c], replaces[c], out.fit_validation, out.implausibility, &r);
+    r.converged = job.fit.lm.converged();
+    r.iterations = job.fit.lm.iterations;
+    if (candidates[c].kind == EffectKind::kPayload) {
+      const int e = static_cast<int>(job.model->bodies().size()) - 1;  // the payload: the last body
+      const Vector10 pi = job.model->BodyInertia(e, job.fit.x).vector();
+      r.values.assign(pi.data(), pi.data() + 10);
+      if (e < static_cast<int>(job.stds.size())) r.payload_std = job.stds[e];
+    } else {
+      // The candidate's term: the one of its kind on its joint.
+      for (int k = 0; k < static_cast<int>(job.model->effects().size()); ++k) {
+        const EffectTerm& t = job.model->effects()[k];
+        if (t.kind == candidates[c].kind && t.joint == candidates[c].target) r.values = job.model->EffectValues(k, job.fit.x);
+      }
+    }
+    out.candidates.push_back(std::move(r));
+    job_of.push_back(static_cast<int>(c));
+  }
+  // Ranked as candidate_evidence.hpp says: by group, then score.
+  std::vector<int> order(out.candidates.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  auto ranked = [&](int a, int b) {
+    const CandidateEvidence& x = out.candidates[a].evidence;
+    const CandidateEvidence& y = out.candidates[b].evidence;
+    return x.group() != y.group() ? x.group() < y.group() : x.score > y.score;
+  };
+  std::stable_sort(order.begin(), order.end(), ranked);
+  // Alternatives: each further suggestion refitted together with the top one must still be supported
+  // against the top one alone.
+  if (!order.empty() && out.candidates[order[0]].evidence.suggested()) {
+    const int top = order[0];
+    const Job& top_job = jobs[job_of[top]];
+    const std::unordered_map<std::string, double> top_x = named(*top_job.model, top_job.fit.x);
+    std::vector<int> others;
+    for (size_t k = 1; k < order.size() && out.candidates[order[k]].evidence.suggested(); ++k) others.push_back(order[k]);
+    // Two dry-friction forms of one joint are alternatives by construction (one slot per joint).
+    const EffectSpec& top_spec = out.candidates[top].spec;
+    const std::optional<EffectSpec>& top_replaces = replaces[job_of[top]];
+    const std::vector<EffectSpec> with_top = WithCandidate(effects, base.dof_names(), top_spec, top_replaces);
+    std::vector<int> refit;
+    for (int other : others) {
+      const EffectSpec& o = out.candidates[other].spec;
+      if (IsDryFriction(o.kind) && IsDryFriction(top_spec.kind) && o.target == top_spec.target) {
+        out.candidates[other].alternative_to = out.candidates[top].name;
+      } else {
+        refit.push_back(other);
+      }
+    }
+    std::vector<Job> pairs(refit.size());
+    for (size_t k = 0; k < refit.size(); ++k) {
+      setup(pairs[k], WithCandidate(with_top, base.dof_names(), out.candidates[refit[k]].spec, replaces[job_of[refit[k]]]),
+            top_x);
+    }
+    RunJobs(pairs, train_eq, validation_eq, options.threads);
+    for (size_t k = 0; k < refit.size(); ++k) {
+      CandidateResult together;
+      judge(pairs[k], out.candidates[refit[k]].spec, replaces[job_of[refit[k]]], out.candidates[top].validation,
+            out.candidates[top].implausibility, &together);
+      if (!together.evidence.suggested()) out.candidates[refit[k]].alternative_to = out.candidates[top].name;
+    }
+    std::stable_partition(order.begin(), order.end(), [&](int i) {
+      return out.candidates[i].evidence.suggested() && out.candidates[i].alternative_to.empty();
+    });
+  }
+  std::vector<CandidateResult> sorted;
+  for (int i : order) sorted.push_back(std::move(out.candidates[i]));
+  out.candidates = std::move(sorted);
+  out.num_suggestions = 0;
+  while (out.num_suggestions < static_cast<int>(out.candidates.size()) &&
+         out.candidates[out.num_suggestions].evidence.suggested() &&
+         out.candidates[out.num_suggestions].alternative_to.empty()) {
+    ++out.num_suggestions;
+  }
+  if (!out.fit.lm.converged()) {
+    out.num_suggestions = 0;
+    out.notes.push_back("the model's own fit did not converge (" + std::string(ToString(out.fit.lm.reason)) + " after " +
+                        std::to_string(out.fit.lm.iterations) +
+                        " iterations): its candidates would all look good, so none is suggested; raise the iteration cap");
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace
+
+std::vector<EffectSpec> EffectsWithCandidate(const std::vector<EffectSpec>& effects,
+                                             const std::vector<std::string>& joints, const CandidateResult& candidate) {
+  std::optional<EffectSpec> replaced;
+  if (!candidate.replaces.empty()) replaced = ParseEffectList(candidate.replaces).at(0);
+  return WithCandidate(effects, joints, candidate.spec, replaced);
+}
+
+JointDiagnosis DiagnoseJointModel(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                                  const std::vector<std::string>& payload_links, const JointSamples& train,
+                                  const JointSamples& validation, const JointDiagnosisOptions& options) {
+  return Diagnose(make, effects, payload_links, train, validation, options, nullptr);
+}
+
+JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                                     const std::vector<std::string>& payload_links, const JointSamples& train,
+                                     const JointSamples& validation, const JointDiagnosisOptions& options,
+                                     int max_steps, std::vector<DiagnosisStep>* steps) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<EffectSpec> current = effects;
+  Prepared prepared;  // the first step's statistics serve every step
+  JointDiagnosis d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
+  steps->clear();
+  for (int step = 0; step < max_steps && d.num_suggestions > 0; ++step) {
+    if (options.progress) options.progress(step + 1, max_steps);
+    const CandidateResult& top = d.candidates[0];
+    DiagnosisStep s;
+    s.added = top.name;
+    s.item = EffectItem(top.spec);
+    s.explained = top.explained;
+    s.evidence = top.evidence;
+    s.before = d.fit_validation;
+    s.implausibility_before = d.implausibility;
+    s.bent_before = BentLinks(d);
+    s.replaced = top.replaces;
+    current = EffectsWithCandidate(current, make({}).dof_names(), top);
+    d = Diagnose(make, current, payload_links, train, validation, options, &prepared);
+    s.after = d.fit_validation;
+    s.implausibility_after = d.implausibility;
+    s.bent_after = BentLinks(d);
+    steps->push_back(s);
+  }
+  if (!d.fit.lm.converged()) {
+    d.stop_reason = "the model's own fit did not converge";
+  } else if (d.num_suggestions == 0) {
+    d.stop_reason = "nothing more is suggested: no candidate is supported by the held-out data or by the links' plausibility";
+  } else {
+    d.stop_reason = "the step cap (" + std::to_string(max_steps) + ") was reached with " + d.candidates[0].name +
+                    " still suggested";
+  }
+  // links_only_validation is relative to the links, whatever was added.
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return d;
+}
+
+std::vector<std::string> BentLinks(const JointDiagnosis& d) {
+  std::vector<std::string> bent;
+  for (size_t e = 0; e < d.plausibility.size() && e < d.links.size() && e < d.body_names.size(); ++e) {
+    if (d.links[e] && !d.plausibility[e].Within(d.prior_tolerance)) bent.push_back(d.body_names[e]);
+  }
+  return bent;
+}
+
+void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation) {
+  if (!(fraction > 0.0 && fraction < 1.0)) throw std::invalid_argument("holdout: the fraction must be in (0, 1)");
+  const int N = data.size();
+  const int held = static_cast<int>(std::lround(fraction * N));
+  if (held < 2 || N - held < 2) {
+    throw std::invalid_argument("holdout: " + std::to_string(N) + " samples cannot be split into two parts of at least 2");
+  }
+  auto part = [&](int begin, int count, JointSamples* out) {
+    out->joint_names = data.joint_names;
+    out->t = data.t.segment(begin, count);
+    out->q = data.q.middleRows(begin, count);
+    out->qd = data.qd.middleRows(begin, count);
+    out->qdd = data.qdd.middleRows(begin, count);
+    out->tau = data.tau.middleRows(begin, count);
+  };
+  part(0, N - held, train);
+  part(N - held, held, validation);
+}
+
+}  // namespace inertial

@@ -1,0 +1,475 @@
+#include "inertial/estimation/online/online_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/batch/robust_identification.hpp"
+#include "inertial/signal/robust_statistics.hpp"
+#include "inertial/estimation/online/symmetric_rank_update.hpp"
+#include "inertial/estimation/online/symmetric_span_product.hpp"
+
+namespace inertial {
+namespace {
+
+int RoundUpToBlock(int k) { return (k + kSpanBlock - 1) / kSpanBlock * kSpanBlock; }
+
+// Per joint the robust scale s_j = 1.4826 median |r_j| of the prediction errors r (m x count):
+// about zero, not about their median, because the errors are those of earlier estimates, whose
+// bias the current one need not share (a bias of them is spread, not a centre). Floored as
+// identify floors its scale (robust_identification.hpp): 1e-3 of the RMS of the joint's measured
+// torque y, and 1e-9.
+void RobustNoise(const Eigen::MatrixXd& r, const Eigen::MatrixXd& y, Eigen::VectorXd* center, Eigen::VectorXd* scale) {
+  const int m = static_cast<int>(r.rows()), n = static_cast<int>(r.cols());
+  center->setZero(m);
+  scale->setZero(m);
+  std::vector<double> v(n);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) v[i] = std::abs(r(j, i));
+    const double rms = std::sqrt(y.row(j).squaredNorm() / n);
+    (*scale)[j] = std::max({kMadToSigma * Median(v), 1e-3 * rms, 1e-9});
+  }
+}
+
+bool WithinGate(const Eigen::VectorXd& r, const Eigen::VectorXd& center, const Eigen::VectorXd& scale, double k) {
+  for (int j = 0; j < r.size(); ++j) {
+    if (!(std::abs(r[j] - center[j]) <= k * scale[j])) return false;
+  }
+  return true;
+}
+
+// The covariance of the coefficients w at the solution, C_w = J_w C_x J_w^T with C_x the Laplace
+// covariance of the batch objective (fit_uncertainty.hpp): a^T C_w a is the variance of the
+// prediction a^T w that the estimate's own uncertainty adds to the noise. Directions nothing
+// determines (infinite variance) get 1e200 on the diagonal: a gate open for the samples that
+// excite them, since nothing can be judged there.
+Eigen::MatrixXd PredictionCovariance(const RobotDynamics& model, const FitUncertainty* u, const Eigen::VectorXd& x) {
+  const int F = model.num_features(), P = model.num_parameters();
+  constexpr double kOpen = 1e200;
+  if (u == nullptr) return Eigen::MatrixXd::Identity(F, F) * kOpen;  // no residual degrees of freedom yet
+  Eigen::MatrixXd C_x = u->covariance;
+  for (int i = 0; i < P; ++i) {
+    for (int j = 0; j < P; ++j) {
+      if (!std::isfinite(C_x(i, j))) C_x(i, j) = i == j ? kOpen : 0.0;
+    }
+  }
+  Eigen::MatrixXd J;
+  model.Coefficients(x, &J);
+  Eigen::MatrixXd C_w = J * C_x * J.transpose();
+  for (int f = 0; f < F; ++f) {
+    if (!std::isfinite(C_w(f, f)) || C_w(f, f) > kOpen) C_w(f, f) = kOpen;
+  }
+  return C_w.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+}
+
+}  // namespace
+
+namespace {
+
+void AddRows(const Eigen::Ref<const Eigen::MatrixXd>& At, const Eigen::Ref<const Eigen::VectorXd>& y,
+             JointNormalEquations* eq) {
+  eq->AtA.noalias() += At * At.transpose();
+  eq->Atb.noalias() += At * y;
+  eq->btb += y.squaredNorm();
+  ++eq->num_samples;
+}
+
+}  // namespace
+
+OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnapshot& snap,
+                                 const OnlineFitOptions& options) {
+  OnlineFitSolution sol;
+  sol.generation = snap.generation;
+  const int m = model.num_dofs();
+  const int count = static_cast<int>(snap.pending_y.cols());
+  const long long judged = std::max<long long>(1, snap.residuals_seen);
+  sol.gate = options.gate > 0 ? options.gate : DefaultOutlierThreshold(judged);
+  if (snap.window_r.cols() > 0) RobustNoise(snap.window_r, snap.window_y, &sol.center, &sol.noise);
+  sol.pending_kept.assign(count, true);
+  JointIdentificationOptions fit = options.solve;
+  fit.initial = snap.solved ? snap.x : Eigen::VectorXd();
+  // The pending samples (the warm-up, or samples the gate refused since the last solve) are
+  // judged as identify judges rows: the fit with them, then each against that fit's prediction
+  // (a fit that has seen a velocity reversal or a new region of the workspace explains it; a
+  // glitch stays far out), and the fit again without those refused.
+  auto fit_with = [&](const std::vector<bool>& kept) {
+    JointNormalEquations eq = snap.equations;
+    for (int i = 0; i < count; ++i) {
+      if (kept[i]) AddRows(snap.pending_rows.middleCols(i * m, m), snap.pending_y.col(i), &eq);
+    }
+    return eq;
+  };
+  auto judge = [&](const Eigen::VectorXd& x, std::vector<bool>* kept) {
+    const Eigen::VectorXd w = model.Coefficients(x);
+    for (int i = 0; i < count; ++i) {
+      const Eigen::VectorXd r = snap.pending_y.col(i) - snap.pending_rows.middleCols(i * m, m).transpose() * w;
+      (*kept)[i] = WithinGate(r, sol.center, sol.noise, sol.gate);
+    }
+  };
+  const bool can_judge = count > 0 && sol.noise.size() == m;
+  // The warm-up is first judged against the start (identify's first round, against the prior);
+  // samples the gate held are first taken in (their fit must see them to judge them).
+  if (can_judge && !snap.solved) judge(snap.x, &sol.pending_kept);
+  JointNormalEquations eq = fit_with(sol.pending_kept);
+  if (eq.num_samples == 0) {
+    sol.x = snap.x;
+    return sol;
+  }
+  JointIdentificationResult result = IdentifyJointModel(model, eq, fit);
+  // Re-judged against each fit until the kept set settles (at most identify's 5 rounds).
+  for (int round = 1; can_judge && round < 5; ++round) {
+    std::vector<bool> kept(count);
+    judge(result.x, &kept);
+    if (kept == sol.pending_kept) break;
+    sol.pending_kept = kept;
+    eq = fit_with(kept);
+    if (eq.num_samples == 0) break;
+    fit.initial = result.x;
+    result = IdentifyJointModel(model, eq, fit);
+  }
+  sol.x = result.x;
+  sol.lm = result.lm;
+  try {
+    sol.uncertainty = std::make_shared<const FitUncertainty>(
+        EstimateFitUncertainty(model, eq, sol.x, fit.prior_weight, fit.frozen_bodies));
+  } catch (const std::invalid_argument&) {  // no residual degrees of freedom yet
+  }
+  sol.prediction_covariance = PredictionCovariance(model, sol.uncertainty.get(), sol.x);
+  return sol;
+}
+
+OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineFitOptions& options)
+    : RecursiveEstimator(model.num_features(), model.num_dofs()), model_(std::move(model)), options_(options) {
+  m_ = model_.num_dofs();
+  F_ = model_.num_features();
+  Fp_ = RoundUpToBlock(F_);
+  if (x0.size() != model_.num_parameters() || !x0.allFinite()) {
+    throw std::invalid_argument("online fit: x0 must be " + std::to_string(model_.num_parameters()) + " finite numbers");
+  }
+  if (!(options.solve.prior_weight >= 0) || !std::isfinite(options.solve.prior_weight)) {
+    throw std::invalid_argument("online fit: the prior weight must be finite and non-negative");
+  }
+  if (!(options.forgetting_time > 0)) throw std::invalid_argument("online fit: the forgetting time must be positive");
+  if (!(options.gate >= 0) || !std::isfinite(options.gate)) throw std::invalid_argument("online fit: the gate must be >= 0");
+  if (options.noise_window < 8 || options.warmup < 1 || options.max_consecutive_outliers < 1 ||
+      !(options.solve_growth > 0)) {
+    throw std::invalid_argument(
+        "online fit: noise_window >= 8, warmup >= 1, max_consecutive_outliers >= 1 and solve_growth > 0 required");
+  }
+  if (!options.solve.frozen_bodies.empty() && options.solve.frozen_bodies.size() != model_.bodies().size()) {
+    throw std::invalid_argument("online fit: frozen_bodies must have one flag per estimated body");
+  }
+  x_ = x0;
+  w_ = model_.Coefficients(x_);
+  S_ = Eigen::MatrixXd::Zero(Fp_, Fp_);
+  s_ = Eigen::VectorXd::Zero(F_);
+  At_ = Eigen::MatrixXd::Zero(Fp_, RoundUpToBlock(m_));
+  CwAt_ = Eigen::MatrixXd::Zero(Fp_, RoundUpToBlock(m_));
+  Cw_ = Eigen::MatrixXd::Zero(Fp_, Fp_);
+  gate_scale_ = Eigen::VectorXd::Zero(m_);
+  ones_ = Eigen::VectorXd::Ones(Fp_);
+  d_ = Eigen::VectorXd::Ones(Fp_);
+  r_ = Eigen::VectorXd::Zero(m_);
+  capacity_ = std::max(options.warmup, options.max_consecutive_outliers);
+  pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
+  pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
+  window_r_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
+  window_y_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
+  noise_ = Eigen::VectorXd::Zero(m_);
+  center_ = Eigen::VectorXd::Zero(m_);
+}
+
+void OnlineFit::Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, double lambda) {
+  At_.topLeftCorner(F_, m_) = A.transpose();
+  if (lambda == 1.0) {
+    ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
+  } else {
+    d_.setConstant(std::sqrt(lambda));
+    ScaledSymmetricRankUpdate(S_, d_, At_.leftCols(m_), -1.0);
+  }
+  s_ = lambda * s_;
+  s_.noalias() += At_.topLeftCorner(F_, m_) * y;
+  c_ = lambda * c_ + y.squaredNorm();
+  weight_ = lambda * weight_ + 1.0;
+  added_since_solve_ = lambda * added_since_solve_ + 1.0;
+}
+
+UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+  r_ = y;
+  r_.noalias() -= A * w_;
+  if (!r_.allFinite()) return UpdateStatus::kNumerical;
+  // The window of prediction errors (every finite sample: the noise is judged on all of them).
+  window_r_.col(window_next_) = r_;
+  window_y_.col(window_next_) = y;
+  window_next_ = (window_next_ + 1) % options_.noise_window;
+  window_count_ = std::min(window_count_ + 1, options_.noise_window);
+  residuals_seen_ += m_;
+  const double lambda =
+      (has_time() && std::isfinite(options_.forgetting_time)) ? std::exp(-(applying_time() - last_time()) / options_.forgetting_time) : 1.0;
+  if (!has_scale_) {
+    if (pending_count_ < capacity_) {
+      Hold(A, y);
+      return UpdateStatus::kBuffered;
+    }
+    // The caller has not solved since the warm-up filled: nothing to judge by yet.
+    Accumulate(A, y, lambda);
+    return UpdateStatus::kAccepted;
+  }
+  // The gate: noise plus what the estimate's uncertainty adds to this sample's prediction
+  // (a_j^T C_w a_j: large where the samples so far did not excite what this one does).
+  const int mp = static_cast<int>(At_.cols());
+  At_.topLeftCorner(F_, m_) = A.transpose();
+  for (int g0 = 0; g0 < mp; g0 += kSpanBlock) {
+    SymmetricSpanProduct(Cw_, At_.middleCols(g0, kSpanBlock), 0, Fp_, CwAt_.middleCols(g0, kSpanBlock));
+  }
+  for (int j = 0; j < m_; ++j) {
+    gate_scale_[j] = std::sqrt(noise_[j] * noise_[j] + std::max(0.0, At_.col(j).dot(CwAt_.col(j))));
+  }
+  if (!WithinGate(r_, center_, gate_scale_, gate_)) {
+    // Held for the next solve, which judges it with the fit that includes it; a run longer than
+    // max_consecutive_outliers is a change of the system: start over from the current estimate.
+    if (++consecutive_ <= options_.max_consecutive_outliers) {
+      if (pending_count_ >= capacity_) return UpdateStatus::kOutlier;  // no room left before the next solve
+      Hold(A, y);
+      return UpdateStatus::kBuffered;
+    }
+    ++changes_;
+    for (int i = 0; i < pending_count_; ++i) ResolveHeld(false);  // the run before the change
+    Empty();
+    Hold(A, y);
+    return UpdateStatus::kBuffered;
+  }
+  consecutive_ = 0;
+  Accumulate(A, y, lambda);
+  return UpdateStatus::kAccepted;
+}
+
+void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+  pending_rows_.middleCols(static_cast<Eigen::Index>(pending_count_) * m_, m_) = A.transpose();
+  pending_y_.col(pending_count_) = y;
+  ++pending_count_;
+}
+
+void OnlineFit::ResolveHeld(bool kept) {
+  Resolve(kept ? UpdateStatus::kAccepted : UpdateStatus::kOutlier);
+  ++(kept ? held_kept_ : held_refused_);
+}
+
+void OnlineFit::Empty() {
+  S_.setZero();
+  s_.setZero();
+  c_ = 0.0;
+  weight_ = 0.0;
+  pending_count_ = 0;
+  has_scale_ = false;
+  consecutive_ = 0;
+  added_since_solve_ = 0.0;
+  ++generation_;
+}
+
+bool OnlineFit::solve_due() const {
+  if (!has_scale_) return pending_count_ >= options_.warmup;
+  // Refused samples wait for a solve to judge them: soon, but not at every one of a run.
+  if (pending_count_ >= kPendingSolve) return true;
+  // Grown by the fraction g since the last solve: the weight added since, decayed as the rest,
+  // is g / (1 + g) of the whole (without forgetting: weight >= (1 + g) weight at the solve; with
+  // it, the same rule stays reachable once the weight saturates at 1 / (1 - lambda)).
+  const double g = options_.solve_growth;
+  return added_since_solve_ > 0.0 && added_since_solve_ >= g / (1.0 + g) * weight_;
+}
+
+JointNormalEquations OnlineFit::Equations() const {
+  JointNormalEquations eq;
+  eq.AtA = S_.topLeftCorner(F_, F_);
+  eq.AtA.triangularView<Eigen::StrictlyUpper>() = eq.AtA.transpose();
+  eq.Atb = s_;
+  eq.btb = c_;
+  // The count saturates at 2^31 - 1 samples (25 days at 1 kHz without forgetting); beyond, the
+  // Laplace covariance's noise estimate counts fewer rows than it has (it grows, conservative).
+  eq.num_samples = static_cast<int>(std::min(std::round(weight_), 2147483647.0));
+  return eq;
+}
+
+OnlineFitSnapshot OnlineFit::Snapshot() const {
+  OnlineFitSnapshot snap;
+  snap.equations = Equations();
+  snap.x = x_;
+  snap.solved = solved_;
+  snap.pending_rows = pending_rows_.leftCols(static_cast<Eigen::Index>(pending_count_) * m_);
+  snap.pending_y = pending_y_.leftCols(pending_count_);
+  snap.window_r.resize(m_, window_count_);
+  snap.window_y.resize(m_, window_count_);
+  for (int i = 0; i < window_count_; ++i) {
+    snap.window_r.col(i) = window_r_.col(i);
+    snap.window_y.col(i) = window_y_.col(i);
+  }
+  snap.residuals_seen = residuals_seen_;
+  snap.generation = generation_;
+  return snap;
+}
+
+bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
+  // An estimate that is not finite or beyond any physical scale is not taken (the last one stays);
+  // the noise, the gate and the held samples' judgement are taken all the same, so that a failed
+  // solve does not leave the solve due at every sample.
+  bool take_x = sol.x.size() == x_.size() && sol.x.allFinite();
+  Eigen::VectorXd w;
+  if (take_x) {
+    w = model_.Coefficients(sol.x);
+    take_x = w.allFinite() && w.cwiseAbs().maxCoeff() <= kMaxStateCoefficient;
+  }
+  if (take_x) {
+    x_ = sol.x;
+    w_ = w;
+    uncertainty_ = sol.uncertainty;
+  }
+  if (sol.generation != generation_) return take_x;  // the statistics were emptied meanwhile
+  if (sol.noise.size() == m_) {
+    // The held samples the solve kept join the statistics (at their weight now: they are
+    // recent); those it refused are counted as outliers; those held after the snapshot stay.
+    const int judged = std::min(static_cast<int>(sol.pending_kept.size()), pending_count_);
+    bool all_kept = true;
+    for (int i = 0; i < judged; ++i) {
+      ResolveHeld(sol.pending_kept[i]);
+      if (!sol.pending_kept[i]) {
+        all_kept = false;
+        continue;
+      }
+      At_.topLeftCorner(F_, m_) = pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_);
+      ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
+      s_.noalias() += At_.topLeftCorner(F_, m_) * pending_y_.col(i);
+      c_ += pending_y_.col(i).squaredNorm();
+      weight_ += 1.0;
+    }
+    const int rest = pending_count_ - judged;
+    if (rest > 0) {
+      pending_rows_.leftCols(static_cast<Eigen::Index>(rest) * m_) =
+          pending_rows_.middleCols(static_cast<Eigen::Index>(judged) * m_, static_cast<Eigen::Index>(rest) * m_).eval();
+      pending_y_.leftCols(rest) = pending_y_.middleCols(judged, rest).eval();
+    }
+    pending_count_ = rest;
+    if (all_kept) consecutive_ = 0;
+  }
+  if (sol.prediction_covariance.rows() == F_ && sol.prediction_covariance.cols() == F_) {
+    Cw_.topLeftCorner(F_, F_) = sol.prediction_covariance;
+  }
+  if (sol.noise.size() == m_) {
+    noise_ = sol.noise;
+    center_ = sol.center;
+    gate_ = sol.gate;
+    has_scale_ = true;
+  }
+  solved_ = solved_ || (take_x && sol.lm.x.size() > 0);
+  added_since_solve_ = 0.0;
+  ++solves_;
+  return take_x;
+}
+
+bool OnlineFit::Solve(bool from_start) {
+  OnlineFitSnapshot snap = Snapshot();
+  if (from_start) snap.solved = false;
+  if (snap.equations.num_samples == 0 && snap.pending_y.cols() == 0) return false;
+  return Adopt(SolveOnlineFit(model_, snap, options_));
+}
+
+Eigen::MatrixXd OnlineFit::Covariance() const {
+  const JointNormalEquations eq = Equations();
+  if (static_cast<double>(eq.num_samples) * m_ <= model_.num_parameters()) return {};
+  try {
+    return EstimateFitUncertainty(model_, eq, x_, options_.solve.prior_weight, options_.solve.frozen_bodies).covariance;
+  } catch (const std::invalid_argument&) {
+    return {};  // no residual degrees of freedom yet
+  }
+}
+
+Eigen::MatrixXd OnlineFit::StatisticsMatrix() const {
+  Eigen::MatrixXd M(F_ + 1, F_ + 1);
+  const JointNormalEquations eq = Equations();
+  M.topLeftCorner(F_, F_) = eq.AtA;
+  M.col(F_).head(F_) = eq.Atb;
+  M.row(F_).head(F_) = eq.Atb.transpose();
+  M(F_, F_) = eq.btb;
+  return M;
+}
+
+bool OnlineFit::CheckExtra(const EstimatorState& state, std::string* why) const {
+  const Eigen::MatrixXd& M = state.statistics;
+  if (M.size() == 0) {
+    if (why != nullptr) *why = "the state holds no statistics (written by another estimator or an older version)";
+    return false;
+  }
+  if (M.rows() != F_ + 1 || M.cols() != F_ + 1) {
+    if (why != nullptr) {
+      *why = "its statistics are " + std::to_string(M.rows()) + " x " + std::to_string(M.cols()) + ", the model needs " +
+             std::to_string(F_ + 1) + " x " + std::to_string(F_ + 1);
+    }
+    return false;
+  }
+  if (!M.allFinite() || !std::isfinite(state.statistics_samples) || state.statistics_samples < 0) {
+    if (why != nullptr) *why = "its statistics hold non-finite or negative numbers";
+    return false;
+  }
+  // 1e12 samples: 30 years at 1 kHz; more is not a count any stream could have made.
+  if (!(state.statistics_samples <= 1e12)) {
+    if (why != nullptr) *why = "its statistics claim more than 1e12 samples";
+    return false;
+  }
+  const double scale = M.cwiseAbs().maxCoeff();
+  if (!((M - M.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale) || (M.diagonal().array() < 0).any()) {
+    if (why != nullptr) *why = "its statistics are not a symmetric matrix with a non-negative diagonal";
+    return false;
+  }
+  return true;
+}
+
+void OnlineFit::SaveExtra(EstimatorState* state) const {
+  // The held samples go into the saved statistics as accepted (a checkpoint must not lose them;
+  // the gate's judgement of them is the one thing a restart forgoes).
+  state->statistics = StatisticsMatrix();
+  state->statistics_samples = weight_;
+  for (int i = 0; i < pending_count_; ++i) {
+    Eigen::VectorXd v(F_ + 1);
+    v.head(F_).setZero();
+    for (int j = 0; j < m_; ++j) {
+      v.head(F_) = pending_rows_.col(static_cast<Eigen::Index>(i) * m_ + j);
+      v[F_] = pending_y_(j, i);
+      state->statistics.selfadjointView<Eigen::Lower>().rankUpdate(v);
+    }
+    state->statistics_samples += 1.0;
+    auto& count = state->counters.count;  // a held sample is counted buffered until resolved
+    ++count[static_cast<int>(UpdateStatus::kAccepted)];
+    if (count[static_cast<int>(UpdateStatus::kBuffered)] > 0) --count[static_cast<int>(UpdateStatus::kBuffered)];
+  }
+  state->statistics.triangularView<Eigen::StrictlyUpper>() = state->statistics.transpose();
+  state->solved = solved_;
+}
+
+void OnlineFit::RestoreExtra(const EstimatorState& state) {
+  const Eigen::MatrixXd& M = state.statistics;
+  S_.setZero();
+  S_.topLeftCorner(F_, F_) = M.topLeftCorner(F_, F_);
+  s_ = M.col(F_).head(F_);
+  c_ = M(F_, F_);
+  weight_ = state.statistics_samples;
+  // A restored estimate (x not the priors: a checkpoint, or one carried into a model with more
+  // effects, whose statistics start over) is the warm start of the next solve.
+  solved_ = state.solved || !state.x.isZero(0.0);
+  // The gate is found again from the next samples (a warm-up): the noise may have changed.
+  added_since_solve_ = 0.0;
+  pending_count_ = 0;
+  window_count_ = 0;
+  window_next_ = 0;
+  has_scale_ = false;
+  consecutive_ = 0;
+  ++generation_;
+}
+
+bool OnlineFit::SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd&, std::string*) {
+  x_ = x;
+  w_ = model_.Coefficients(x_);
+  return true;
+}
+
+}  // namespace inertial

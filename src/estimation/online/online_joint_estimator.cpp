@@ -1,0 +1,137 @@
+#include "inertial/estimation/online/online_joint_estimator.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace inertial {
+
+std::string_view ToString(EstimatorKind kind) {
+  switch (kind) {
+    case EstimatorKind::kGaussNewton: return "gauss_newton";
+    case EstimatorKind::kEkf: return "ekf";
+    case EstimatorKind::kGradient: return "gradient";
+    case EstimatorKind::kLinearRls: return "linear_rls";
+  }
+  return "unknown";
+}
+
+EstimatorKind ParseEstimatorKind(std::string_view name) {
+  if (name == "gauss_newton") return EstimatorKind::kGaussNewton;
+  if (name == "ekf") return EstimatorKind::kEkf;
+  if (name == "gradient") return EstimatorKind::kGradient;
+  if (name == "linear_rls") return EstimatorKind::kLinearRls;
+  throw std::invalid_argument("unknown estimator '" + std::string(name) + "' (gauss_newton, ekf, gradient, linear_rls)");
+}
+
+std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout& layout, int m,
+                                                           const Eigen::VectorXd& x0,
+                                                           const OnlineEstimatorOptions& options) {
+  if (x0.size() != layout.num_parameters()) {
+    throw std::invalid_argument("online estimator: x0 has " + std::to_string(x0.size()) + " entries, the model " +
+                                std::to_string(layout.num_parameters()));
+  }
+  Eigen::VectorXd std_x(layout.num_parameters());
+  std_x.setConstant(options.effect_std);
+  for (const BodyBlock& b : layout.bodies()) std_x.segment<10>(b.parameter).setConstant(options.theta_std);
+  if (options.initial_std.size() != 0) {
+    if (options.initial_std.size() != layout.num_parameters()) {
+      throw std::invalid_argument("online estimator: initial_std has " + std::to_string(options.initial_std.size()) +
+                                  " entries, the model " + std::to_string(layout.num_parameters()));
+    }
+    std_x = options.initial_std;
+  }
+  // One body measured by its wrench: the fixed-size estimators (same algorithm, compile-time sizes).
+  const bool one_body = layout.bodies().size() == 1 && layout.scalars().empty() && layout.num_features() == 10 && m == 6;
+  switch (options.kind) {
+    case EstimatorKind::kGaussNewton:
+    case EstimatorKind::kEkf: {
+      RecursiveGaussNewtonOptions o;
+      o.kalman = options.kalman;
+      o.kalman.measurement_sigma = options.measurement_sigma;
+      if (one_body) return std::make_unique<BodyGaussNewton>(layout, m, x0, std_x, o);
+      return std::make_unique<RecursiveGaussNewton>(layout, m, x0, std_x, o);
+    }
+    case EstimatorKind::kGradient: {
+      GradientOptions o = options.gradient;
+      o.measurement_sigma = options.measurement_sigma;
+      return std::make_unique<GradientEstimator>(layout, m, x0, std_x, o);
+    }
+    case EstimatorKind::kLinearRls: {
+      Eigen::VectorXd w0(layout.num_features());
+      layout.Coefficients(x0, w0);
+      const Eigen::VectorXd std_w = (options.linear_std_scale * (w0.cwiseAbs().array() + 0.01)).matrix();
+      KalmanOptions o = options.kalman;
+      o.measurement_sigma = options.measurement_sigma;
+      o.max_step = std::numeric_limits<double>::infinity();
+      if (one_body) return std::make_unique<BodyLinearRls>(m, w0, std_w, o);
+      return std::make_unique<LinearRls>(m, w0, std_w, o);
+    }
+  }
+  throw std::invalid_argument("online estimator: unknown kind");
+}
+
+OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0,
+                                           const OnlineEstimatorOptions& options)
+    : model_(std::move(model)), kind_(options.kind) {
+  if (options.kind == EstimatorKind::kGaussNewton) {
+    auto fit = std::make_unique<OnlineFit>(model_, x0, options.fit);
+    fit_ = fit.get();
+    estimator_ = std::move(fit);
+  } else {
+    estimator_ = MakeRecursiveEstimator(ParameterLayout::FromRobot(model_), model_.num_dofs(), x0, options);
+  }
+  workspace_ = model_.MakeWorkspace();
+  A_.resize(model_.num_dofs(), model_.num_features());
+  w_.resize(model_.num_features());
+  estimator_->Coefficients(w_);
+  tau_hat_ = Eigen::VectorXd::Zero(model_.num_dofs());
+  residual_ = Eigen::VectorXd::Zero(model_.num_dofs());
+}
+
+UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
+  const int n = model_.num_dofs();
+  UpdateStatus status = UpdateStatus::kAccepted;
+  if (s.q.size() != n || s.qd.size() != n || s.qdd.size() != n || s.tau.size() != n) {
+    status = UpdateStatus::kWrongSize;
+  } else if (!s.q.allFinite() || !s.qd.allFinite() || !s.qdd.allFinite()) {
+    status = UpdateStatus::kNonFinite;  // the features of a non-finite state would be garbage
+  }
+  if (status != UpdateStatus::kAccepted) {
+    estimator_->CountSample(status);
+    return status;
+  }
+  model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
+  tau_hat_.noalias() = A_ * w_;
+  residual_ = s.tau - tau_hat_;
+  status = estimator_->Update(s.t, A_, s.tau);
+  if (status == UpdateStatus::kAccepted) estimator_->Coefficients(w_);
+  return status;
+}
+
+bool OnlineJointEstimator::Solve(bool from_start) {
+  if (fit_ == nullptr || !fit_->Solve(from_start)) return false;
+  estimator_->Coefficients(w_);
+  return true;
+}
+
+bool OnlineJointEstimator::Adopt(const OnlineFitSolution& solution) {
+  if (fit_ == nullptr || !fit_->Adopt(solution)) return false;
+  estimator_->Coefficients(w_);
+  return true;
+}
+
+bool OnlineJointEstimator::Restore(const EstimatorState& state, std::string* why) {
+  if (!estimator_->Restore(state, why)) return false;
+  estimator_->Coefficients(w_);
+  return true;
+}
+
+InertialParams OnlineJointEstimator::Body(int e) const {
+  if (kind_ == EstimatorKind::kLinearRls) {
+    return InertialParams::FromVector(w_.segment<10>(10 * model_.bodies().at(e).tree_body));
+  }
+  return model_.BodyInertia(e, estimator_->parameters());
+}
+
+
+}  // namespace inertial
