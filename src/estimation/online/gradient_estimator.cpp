@@ -58,6 +58,7 @@ UpdateStatus GradientEstimator::Apply(const Eigen::MatrixXd& A, const Eigen::Vec
 
 bool GradientEstimator::SetParameters(const Eigen::VectorXd& x, const Eigen::MatrixXd&, std::string*) {
   x_ = x;
+  consecutive_outliers_ = 0;  // the run of outliers is not part of a state: a restore starts a fresh one
   return true;
 }
 

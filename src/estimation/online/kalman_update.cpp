@@ -313,6 +313,11 @@ bool BasicKalmanUpdate<N, M>::SetCovariance(const Eigen::MatrixXd& P) {
   // Exactly (of a dynamic P the lower triangle is used), so that a restored estimator continues bit for bit.
   P_.topLeftCorner(n_, n_) = P;
   pending_ = false;
+  // The change detector's run of outliers is not part of a saved state: a restored estimator starts
+  // a fresh one, so that what follows depends on the state restored alone, not on the samples this
+  // estimator saw before (a run of them would otherwise carry over into the restored one).
+  consecutive_outliers_ = 0;
+  tracking_change_ = false;
   return true;
 }
 

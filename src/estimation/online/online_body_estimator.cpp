@@ -24,16 +24,21 @@ UpdateStatus OnlineBodyEstimator::Update(const BodySample& s) {
     estimator_->CountSample(UpdateStatus::kNonFinite);
     return UpdateStatus::kNonFinite;
   }
+  // Time strictly increasing over every sample given, a held twist included (its time is the
+  // latest one when it came after the estimator's last): checked before a twist is held or paired,
+  // so that a refused sample never becomes half of a pair.
+  const bool after_estimator = !estimator_->has_time() || s.t > estimator_->last_time();
+  const bool after_held = !has_previous_ || s.t > previous_.t;
+  if (!after_estimator || !after_held) {
+    estimator_->CountSample(UpdateStatus::kOutOfOrder);
+    return UpdateStatus::kOutOfOrder;
+  }
   if (s.has_acceleration) return Use(s.t, RigidBodyRegressor(s.twist, s.acceleration, s.gravity), s.wrench);
   if (!has_previous_) {
     previous_ = s;
     has_previous_ = true;
     estimator_->CountSample(UpdateStatus::kBuffered);
     return UpdateStatus::kBuffered;
-  }
-  if (!(s.t > previous_.t)) {
-    estimator_->CountSample(UpdateStatus::kOutOfOrder);
-    return UpdateStatus::kOutOfOrder;
   }
   const TwistWrenchSample a{previous_.t, previous_.twist, previous_.wrench}, b{s.t, s.twist, s.wrench};
   Matrix6x10 Y;
