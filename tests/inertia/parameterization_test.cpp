@@ -48,5 +48,11 @@ struct LogCholeskyRelative {
 using Maps = ::testing::Types<Linear, Eigenvalue, PositiveEigenvalue, Exponential, LogCholesky, LogCholeskyRelative>;
 INSTANTIATE_TYPED_TEST_SUITE_P(Every, ParameterizationTester, Maps);
 
+// CTest registers the tests it finds in this file (gtest_add_tests, tests/CMakeLists.txt), not in
+// the header that defines them; one entry per test of the tester, each running every map:
+//   TYPED_TEST_P(ParameterizationTester, JacobianMatchesCentralDifferences)
+//   TYPED_TEST_P(ParameterizationTester, RoundTripPiXPi)
+//   TYPED_TEST_P(ParameterizationTester, RefusesBodiesOutsideItsImageAndLeavesXUntouched)
+
 }  // namespace
 }  // namespace inertial::testing

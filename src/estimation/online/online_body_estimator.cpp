@@ -63,4 +63,10 @@ InertialParams OnlineBodyEstimator::Body() const {
   return layout_.Body(0, estimator_->parameters());
 }
 
+bool OnlineBodyEstimator::Restore(const EstimatorState& state, std::string* why) {
+  if (!estimator_->Restore(state, why)) return false;
+  has_previous_ = false;
+  return true;
+}
+
 }  // namespace inertial

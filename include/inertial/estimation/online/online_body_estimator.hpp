@@ -24,6 +24,11 @@ class OnlineBodyEstimator {
   /// kBuffered for the first sample of a pair (samples without acceleration).
   UpdateStatus Update(const BodySample& sample);
 
+  /// Restores the estimator from a checkpoint (RecursiveEstimator::Restore) and drops a held twist:
+  /// a pair never spans a restore, since the samples before a checkpoint and after it are not known
+  /// to be consecutive; the next sample without acceleration starts a new pair.
+  bool Restore(const EstimatorState& state, std::string* why);
+
   InertialParams Body() const;
   const RecursiveEstimator& estimator() const { return *estimator_; }
   RecursiveEstimator& estimator() { return *estimator_; }
