@@ -122,11 +122,14 @@ InertialParams ReadInertialElement(const tinyxml2::XMLElement& inertial, const s
   return pi;
 }
 
-std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, const std::string& source,
-                                          const std::vector<std::string>& moving_joints, std::vector<bool>* declared) {
-  const std::set<std::string> moving(moving_joints.begin(), moving_joints.end());
-  // Standard <dynamics> of the moving joints.
-  std::map<std::string, std::pair<double, double>> dynamics;  // joint -> (damping, friction)
+namespace {
+
+using JointDynamicsMap = std::map<std::string, std::pair<double, double>>;  // joint -> (damping, friction)
+
+// The standard <dynamics> of the moving joints.
+JointDynamicsMap ReadJointDynamics(const tinyxml2::XMLElement& robot, const std::string& source,
+                                   const std::set<std::string>& moving) {
+  JointDynamicsMap dynamics;
   for (const tinyxml2::XMLElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     const char* name = j->Attribute("name");
     const tinyxml2::XMLElement* d = j->FirstChildElement("dynamics");
@@ -140,8 +143,11 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
     }
     dynamics[name] = {damping, friction};
   }
+  return dynamics;
+}
 
-  // The extension element.
+// The extension element (at most one, version 1), or null.
+const tinyxml2::XMLElement* EffectsElement(const tinyxml2::XMLElement& robot, const std::string& source) {
   const tinyxml2::XMLElement* ext = robot.FirstChildElement(kEffectsElement);
   if (ext != nullptr && ext->NextSiblingElement(kEffectsElement) != nullptr) {
     throw UrdfError(source + ": more than one <" + std::string(kEffectsElement) + "> element");
@@ -154,110 +160,126 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
                       "; this reader knows version 1");
     }
   }
-  std::vector<ModelEffect> listed;
-  std::set<std::string> names;
-  for (const tinyxml2::XMLElement* e = ext ? ext->FirstChildElement() : nullptr; e; e = e->NextSiblingElement()) {
-    const std::string tag = e->Name();
-    ModelEffect m;
-    bool known = false;
-    for (EffectKind k : AllEffectKinds()) {
-      if (tag == ToString(k)) {
-        m.spec.kind = k;
-        known = true;
+  return ext;
+}
+
+// One child of the extension element: its kind, attributes and children checked, its target a
+// moving joint (or a link, for a payload), not stated before (`names`); values not read yet.
+ModelEffect ReadEffectElement(const tinyxml2::XMLElement& element, const std::string& source,
+                              const std::set<std::string>& moving, std::set<std::string>& names, std::string* where_out) {
+  const tinyxml2::XMLElement* e = &element;
+  const std::string tag = e->Name();
+  ModelEffect m;
+  bool known = false;
+  for (EffectKind k : AllEffectKinds()) {
+    if (tag == ToString(k)) {
+      m.spec.kind = k;
+      known = true;
+    }
+  }
+  const std::string where = source + ": <" + std::string(kEffectsElement) + ">: " + ElementText(*e);
+  if (!known) {
+    throw UrdfError(where +
+                    " is not an effect (viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, rotor, payload)");
+  }
+  // Nothing unknown is silently ignored: every attribute and child must be the kind's own.
+  static const std::map<EffectKind, std::set<std::string>> kAttributes = {
+      {EffectKind::kViscous, {"joint"}},
+      {EffectKind::kCoulomb, {"joint", "velocity_scale"}},
+      {EffectKind::kAsymmetric, {"joint", "velocity_scale", "positive", "negative"}},
+      {EffectKind::kSigmoid, {"joint", "amplitude", "steepness", "shift"}},
+      {EffectKind::kOffset, {"joint", "torque"}},
+      {EffectKind::kArmature, {"joint", "inertia"}},
+      {EffectKind::kSpring, {"joint", "stiffness", "rest_position"}},
+      {EffectKind::kRotor, {"joint", "gear_ratio"}},
+      {EffectKind::kPayload, {"link"}}};
+  for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
+    if (kAttributes.at(m.spec.kind).count(a->Name()) == 0) {
+      throw UrdfError(where + " has an unknown attribute '" + std::string(a->Name()) + "'");
+    }
+  }
+  const bool body_effect = m.spec.kind == EffectKind::kRotor || m.spec.kind == EffectKind::kPayload;
+  int children = 0;
+  for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+    if (!body_effect || std::string(c->Name()) != "inertial" || ++children > 1) {
+      throw UrdfError(where + " has an unexpected child <" + std::string(c->Name()) + ">" +
+                      (body_effect ? " (one <inertial> only)" : " (it takes attributes only)"));
+    }
+  }
+  for (const tinyxml2::XMLNode* n = e->FirstChild(); n != nullptr; n = n->NextSibling()) {
+    if (n->ToText() != nullptr) throw UrdfError(where + " holds text; it takes attributes only");
+  }
+  const char* target = e->Attribute(m.spec.kind == EffectKind::kPayload ? "link" : "joint");
+  if (target == nullptr || *target == '\0') {
+    throw UrdfError(where + " has no attribute '" + (m.spec.kind == EffectKind::kPayload ? "link" : "joint") + "'");
+  }
+  m.spec.target = target;
+  m.spec.text = Name(m.spec.kind, m.spec.target) + " (" + source + ")";
+  if (m.spec.kind != EffectKind::kPayload && moving.count(m.spec.target) == 0) {
+    throw UrdfError(where + ": '" + m.spec.target + "' is not a moving joint of the robot");
+  }
+  if (!names.insert(Name(m.spec.kind, m.spec.target)).second) {
+    throw UrdfError(where + ": " + Name(m.spec.kind, m.spec.target) + " is stated twice");
+  }
+  *where_out = where;
+  return m;
+}
+
+// The values of effect m from its element (viscous and Coulomb from the joint's <dynamics>).
+void ReadEffectValues(const tinyxml2::XMLElement& element, const std::string& where, const JointDynamicsMap& dynamics,
+                      ModelEffect& m) {
+  const tinyxml2::XMLElement* e = &element;
+  auto non_negative = [&](const char* attribute) {
+    const double v = Attribute(*e, attribute, where);
+    if (v < 0) throw UrdfError(where + ": attribute '" + attribute + "' must be >= 0, got " + XmlNumber(v));
+    return v;
+  };
+  const auto dyn = dynamics.find(m.spec.target);
+  switch (m.spec.kind) {
+    case EffectKind::kViscous:
+    case EffectKind::kCoulomb:
+      if (dyn == dynamics.end()) {
+        throw UrdfError(where + ": joint '" + m.spec.target + "' has no <dynamics> element holding the coefficient");
       }
-    }
-    const std::string where = source + ": <" + std::string(kEffectsElement) + ">: " + ElementText(*e);
-    if (!known) {
-      throw UrdfError(where +
-                      " is not an effect (viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, rotor, payload)");
-    }
-    // Nothing unknown is silently ignored: every attribute and child must be the kind's own.
-    static const std::map<EffectKind, std::set<std::string>> kAttributes = {
-        {EffectKind::kViscous, {"joint"}},
-        {EffectKind::kCoulomb, {"joint", "velocity_scale"}},
-        {EffectKind::kAsymmetric, {"joint", "velocity_scale", "positive", "negative"}},
-        {EffectKind::kSigmoid, {"joint", "amplitude", "steepness", "shift"}},
-        {EffectKind::kOffset, {"joint", "torque"}},
-        {EffectKind::kArmature, {"joint", "inertia"}},
-        {EffectKind::kSpring, {"joint", "stiffness", "rest_position"}},
-        {EffectKind::kRotor, {"joint", "gear_ratio"}},
-        {EffectKind::kPayload, {"link"}}};
-    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
-      if (kAttributes.at(m.spec.kind).count(a->Name()) == 0) {
-        throw UrdfError(where + " has an unknown attribute '" + std::string(a->Name()) + "'");
-      }
-    }
-    const bool body_effect = m.spec.kind == EffectKind::kRotor || m.spec.kind == EffectKind::kPayload;
-    int children = 0;
-    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
-      if (!body_effect || std::string(c->Name()) != "inertial" || ++children > 1) {
-        throw UrdfError(where + " has an unexpected child <" + std::string(c->Name()) + ">" +
-                        (body_effect ? " (one <inertial> only)" : " (it takes attributes only)"));
-      }
-    }
-    for (const tinyxml2::XMLNode* n = e->FirstChild(); n != nullptr; n = n->NextSibling()) {
-      if (n->ToText() != nullptr) throw UrdfError(where + " holds text; it takes attributes only");
-    }
-    const char* target = e->Attribute(m.spec.kind == EffectKind::kPayload ? "link" : "joint");
-    if (target == nullptr || *target == '\0') {
-      throw UrdfError(where + " has no attribute '" + (m.spec.kind == EffectKind::kPayload ? "link" : "joint") + "'");
-    }
-    m.spec.target = target;
-    m.spec.text = Name(m.spec.kind, m.spec.target) + " (" + source + ")";
-    if (m.spec.kind != EffectKind::kPayload && moving.count(m.spec.target) == 0) {
-      throw UrdfError(where + ": '" + m.spec.target + "' is not a moving joint of the robot");
-    }
-    if (!names.insert(Name(m.spec.kind, m.spec.target)).second) {
-      throw UrdfError(where + ": " + Name(m.spec.kind, m.spec.target) + " is stated twice");
-    }
-    auto non_negative = [&](const char* attribute) {
-      const double v = Attribute(*e, attribute, where);
-      if (v < 0) throw UrdfError(where + ": attribute '" + attribute + "' must be >= 0, got " + XmlNumber(v));
-      return v;
-    };
-    const auto dyn = dynamics.find(m.spec.target);
-    switch (m.spec.kind) {
-      case EffectKind::kViscous:
-      case EffectKind::kCoulomb:
-        if (dyn == dynamics.end()) {
-          throw UrdfError(where + ": joint '" + m.spec.target + "' has no <dynamics> element holding the coefficient");
-        }
-        if (m.spec.kind == EffectKind::kCoulomb) {
-          m.spec.velocity_scale = Attribute(*e, "velocity_scale", where);
-          if (!(m.spec.velocity_scale > 0)) throw UrdfError(where + ": attribute 'velocity_scale' must be > 0");
-        }
-        m.values = {m.spec.kind == EffectKind::kViscous ? dyn->second.first : dyn->second.second};
-        break;
-      case EffectKind::kAsymmetric:
+      if (m.spec.kind == EffectKind::kCoulomb) {
         m.spec.velocity_scale = Attribute(*e, "velocity_scale", where);
         if (!(m.spec.velocity_scale > 0)) throw UrdfError(where + ": attribute 'velocity_scale' must be > 0");
-        m.values = {non_negative("positive"), non_negative("negative")};
-        break;
-      case EffectKind::kSigmoid:
-        m.spec.steepness = Attribute(*e, "steepness", where);
-        if (!(m.spec.steepness > 0)) throw UrdfError(where + ": attribute 'steepness' must be > 0");
-        m.spec.shift = Attribute(*e, "shift", where);
-        m.values = {non_negative("amplitude")};
-        break;
-      case EffectKind::kOffset: m.values = {Attribute(*e, "torque", where)}; break;
-      case EffectKind::kArmature: m.values = {non_negative("inertia")}; break;
-      case EffectKind::kSpring: m.values = {non_negative("stiffness"), Attribute(*e, "rest_position", where)}; break;
-      case EffectKind::kRotor:
-      case EffectKind::kPayload: {
-        if (m.spec.kind == EffectKind::kRotor) {
-          m.spec.gear_ratio = Attribute(*e, "gear_ratio", where);
-          if (m.spec.gear_ratio == 0.0) throw UrdfError(where + ": attribute 'gear_ratio' must be non-zero");
-        }
-        const tinyxml2::XMLElement* inertial = e->FirstChildElement("inertial");
-        if (inertial == nullptr) throw UrdfError(where + " has no <inertial>");
-        m.spec.inertia = ReadInertialElement(*inertial, where);
-        break;
       }
+      m.values = {m.spec.kind == EffectKind::kViscous ? dyn->second.first : dyn->second.second};
+      break;
+    case EffectKind::kAsymmetric:
+      m.spec.velocity_scale = Attribute(*e, "velocity_scale", where);
+      if (!(m.spec.velocity_scale > 0)) throw UrdfError(where + ": attribute 'velocity_scale' must be > 0");
+      m.values = {non_negative("positive"), non_negative("negative")};
+      break;
+    case EffectKind::kSigmoid:
+      m.spec.steepness = Attribute(*e, "steepness", where);
+      if (!(m.spec.steepness > 0)) throw UrdfError(where + ": attribute 'steepness' must be > 0");
+      m.spec.shift = Attribute(*e, "shift", where);
+      m.values = {non_negative("amplitude")};
+      break;
+    case EffectKind::kOffset: m.values = {Attribute(*e, "torque", where)}; break;
+    case EffectKind::kArmature: m.values = {non_negative("inertia")}; break;
+    case EffectKind::kSpring: m.values = {non_negative("stiffness"), Attribute(*e, "rest_position", where)}; break;
+    case EffectKind::kRotor:
+    case EffectKind::kPayload: {
+      if (m.spec.kind == EffectKind::kRotor) {
+        m.spec.gear_ratio = Attribute(*e, "gear_ratio", where);
+        if (m.spec.gear_ratio == 0.0) throw UrdfError(where + ": attribute 'gear_ratio' must be non-zero");
+      }
+      const tinyxml2::XMLElement* inertial = e->FirstChildElement("inertial");
+      if (inertial == nullptr) throw UrdfError(where + " has no <inertial>");
+      m.spec.inertia = ReadInertialElement(*inertial, where);
+      break;
     }
-    listed.push_back(m);
   }
+}
 
-  // Viscous and Coulomb terms first, in joint order, then the rest as listed.
+// Viscous and Coulomb terms first, in joint order (stated, or from <dynamics> alone), then the rest
+// as listed; `declared` says which were stated in the extension element.
+std::vector<ModelEffect> OrderModelEffects(const std::vector<ModelEffect>& listed, const JointDynamicsMap& dynamics,
+                                           const std::string& source, const std::vector<std::string>& moving_joints,
+                                           std::vector<bool>* declared) {
   std::vector<ModelEffect> effects;
   declared->clear();
   for (const std::string& joint : moving_joints) {
@@ -287,6 +309,24 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
     declared->push_back(true);
   }
   return effects;
+}
+
+}  // namespace
+
+std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, const std::string& source,
+                                          const std::vector<std::string>& moving_joints, std::vector<bool>* declared) {
+  const std::set<std::string> moving(moving_joints.begin(), moving_joints.end());
+  const JointDynamicsMap dynamics = ReadJointDynamics(robot, source, moving);
+  const tinyxml2::XMLElement* ext = EffectsElement(robot, source);
+  std::vector<ModelEffect> listed;
+  std::set<std::string> names;
+  for (const tinyxml2::XMLElement* e = ext ? ext->FirstChildElement() : nullptr; e; e = e->NextSiblingElement()) {
+    std::string where;
+    ModelEffect m = ReadEffectElement(*e, source, moving, names, &where);
+    ReadEffectValues(*e, where, dynamics, m);
+    listed.push_back(m);
+  }
+  return OrderModelEffects(listed, dynamics, source, moving_joints, declared);
 }
 
 void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, const std::vector<ModelEffect>& effects,
