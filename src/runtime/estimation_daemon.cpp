@@ -558,7 +558,8 @@ void EstimationDaemon::Deliver(const Outgoing& o) {
 }
 
 void EstimationDaemon::Publish() {
-  const SampleCounters totals = counters().samples;
+  const DaemonCounters all = counters();
+  const SampleCounters& totals = all.samples;
   std::vector<std::string> unexcited;
   {
     std::lock_guard<std::mutex> lock(sinks_mutex_);
@@ -568,7 +569,7 @@ void EstimationDaemon::Publish() {
   {
     std::lock_guard<std::mutex> lock(process_mutex_);
     const auto utime = static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
-    bytes = EncodeEstimate(*pipeline_, utime, totals, unexcited);
+    bytes = EncodeEstimate(*pipeline_, utime, totals, unexcited, all.lost);
   }
   const bool sent = impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0;
   {

@@ -269,6 +269,8 @@ TEST(EstimationDaemon, ABurstIsAccountedFor) {
 TEST(EstimationDaemon, CountsSamplesLostBeforeItApartFromDropped) {
   const Stream& s = LegStream();
   EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), MemqOptions());
+  Captured captured;
+  daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
   std::atomic<bool> stop{false};
   std::thread runner([&] { daemon.Run(stop); });
   const std::set<int> left_out = {300, 301, 302, 700, 1500};
@@ -281,11 +283,18 @@ TEST(EstimationDaemon, CountsSamplesLostBeforeItApartFromDropped) {
     if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   WaitFor(daemon, sent);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // at least one more publication
   stop = true;
   runner.join();
   const DaemonCounters c = daemon.counters();
   EXPECT_EQ(c.samples.received, sent);
   EXPECT_EQ(c.lost, left_out.size());
+  {
+    std::lock_guard<std::mutex> lock(captured.mutex);
+    ASSERT_FALSE(captured.estimates.empty());
+    EXPECT_EQ(captured.estimates.back().lost, static_cast<std::int64_t>(left_out.size()));  // the status message
+    EXPECT_EQ(captured.estimates.back().dropped, 0);
+  }
   EXPECT_EQ(c.gaps, 3u);
   EXPECT_NEAR(c.median_interval_s, 1.0 / 200, 1e-9);
   EXPECT_NEAR(c.longest_gap_s, 4.0 / 200, 1e-9);
