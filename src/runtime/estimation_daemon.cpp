@@ -34,8 +34,10 @@ double NowSeconds() {
 }  // namespace
 
 // What the estimator thread hands the publisher thread: a slot of the ring, made once (the
-// residual's vectors sized for the robot, room for an encoded payload event and its log line), so
-// that filling one allocates nothing.
+// residual's vectors sized for the robot), so that filling one with a residual or a request
+// allocates nothing. A payload event (rare: a payload picked up or put down) is encoded on the
+// estimator thread, which allocates as it always did; its bytes and log line go into room reserved
+// for a typical one (256 bytes each, queue_capacity slots: kept small, the ring is mostly residuals).
 struct EstimationDaemon::Outgoing {
   enum Kind : int { kEstimate, kDiagnosis, kResidual, kPayloadEvent };
   int kind = kEstimate;
@@ -234,7 +236,7 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
   if (robot_) {
     outgoing.measured = outgoing.predicted = Eigen::VectorXd::Zero(robot_->model().num_dofs());
   }
-  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype, Reserved(outgoing, 4096, 1024));
+  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype, Reserved(outgoing, 256, 256));
   impl_->owner = this;
   impl_->count_gaps = own_time;
   if (robot_) {
