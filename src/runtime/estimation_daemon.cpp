@@ -636,12 +636,15 @@ void EstimationDaemon::FinalDiagnosis(std::int64_t utime) {
 void EstimationDaemon::Checkpoint() {
   if (options_.checkpoint_path.empty()) return;
   try {
+    // Writer thread (or Run at exit): the state copied under the estimator's lock, written after it.
     EstimatorState state;
+    std::string description;
     {
       std::lock_guard<std::mutex> lock(process_mutex_);
       state = pipeline_->estimator().State();
+      description = CheckpointDescription(*pipeline_);
     }
-    SaveEstimatorState(options_.checkpoint_path, state, CheckpointDescription(*pipeline_));
+    SaveEstimatorState(options_.checkpoint_path, state, description);
     {
       std::lock_guard<std::mutex> lock(sinks_mutex_);
       ++checkpoints_;
