@@ -73,9 +73,15 @@ void WriteModelOnRequest(const DaemonRequest& r, RobotModel robot, EstimationDae
   auto shared = std::make_shared<const RobotModel>(std::move(robot));
   daemon->set_model_sink(
       [shared, model_path = r.model_path, out = r.write_urdf](const OnlineJointEstimator& estimator) {
-        WriteModelUrdf(model_path, out, *shared, estimator.model(), SnapshotWithUncertainty(estimator),
-                       "the online estimate of inertiald (" +
-                           std::to_string(estimator.estimator().counters().accepted()) + " samples)");
+        // Under the estimator's lock: the snapshot. After it (the writer thread): the file.
+        ModelSnapshot snapshot = SnapshotWithUncertainty(estimator);
+        std::string description = "the online estimate of inertiald (" +
+                                  std::to_string(estimator.estimator().counters().accepted()) + " samples)";
+        const RobotDynamics* dynamics = &estimator.model();  // fixed for the daemon's life
+        return std::function<void()>(
+            [shared, model_path, out, dynamics, snapshot = std::move(snapshot), description = std::move(description)] {
+              WriteModelUrdf(model_path, out, *shared, *dynamics, snapshot, description);
+            });
       },
       request);
 }

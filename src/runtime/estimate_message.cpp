@@ -41,7 +41,8 @@ inertial::body_estimate_t BodyEstimate(const std::string& name, const InertialPa
   return b;
 }
 
-void SetCounters(const SampleCounters& counters, inertial::estimate_t* m) {
+void SetCounters(const SampleCounters& counters, std::uint64_t lost, inertial::estimate_t* m) {
+  m->lost = static_cast<std::int64_t>(lost);
   m->num_unexcited = 0;  // a robot's encoder fills them in after
   m->unexcited.clear();
   m->received = static_cast<std::int64_t>(counters.received);
@@ -68,7 +69,7 @@ std::vector<std::uint8_t> Encode(const inertial::estimate_t& m) {
 
 std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, const std::string& name, std::int64_t utime,
                                              const Eigen::VectorXd& residual_rms, double residual_window,
-                                             const SampleCounters& counters) {
+                                             const SampleCounters& counters, std::uint64_t lost) {
   inertial::estimate_t m;
   m.utime = utime;
   m.estimator = std::string(est.estimator().kind());
@@ -87,13 +88,14 @@ std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& est, con
   m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
   m.residual_rms.resize(6, 0.0);
   m.residual_window = residual_window;
-  SetCounters(counters, &m);
+  SetCounters(counters, lost, &m);
   return Encode(m);
 }
 
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::int64_t utime,
                                          const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const SampleCounters& counters, const std::vector<std::string>& unexcited) {
+                                         const SampleCounters& counters, const std::vector<std::string>& unexcited,
+                                         std::uint64_t lost) {
   const RobotDynamics& model = est.model();
   inertial::estimate_t m;
   m.utime = utime;
@@ -122,7 +124,7 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
   m.residual_rms.assign(residual_rms.data(), residual_rms.data() + residual_rms.size());
   m.residual_rms.resize(m.channel_names.size(), 0.0);
   m.residual_window = residual_window;
-  SetCounters(counters, &m);
+  SetCounters(counters, lost, &m);
   m.unexcited = unexcited;
   m.num_unexcited = static_cast<std::int32_t>(m.unexcited.size());
   return Encode(m);
@@ -130,11 +132,11 @@ std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& est, std::i
 
 
 std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters,
-                                         const std::vector<std::string>& unexcited) {
+                                         const std::vector<std::string>& unexcited, std::uint64_t lost) {
   const Eigen::VectorXd rms = pipeline.ResidualRms();
   return pipeline.body_mode()
-             ? EncodeBodyEstimate(*pipeline.body(), "body", utime, rms, pipeline.residual_window_s(), counters)
-             : EncodeEstimate(*pipeline.robot(), utime, rms, pipeline.residual_window_s(), counters, unexcited);
+             ? EncodeBodyEstimate(*pipeline.body(), "body", utime, rms, pipeline.residual_window_s(), counters, lost)
+             : EncodeEstimate(*pipeline.robot(), utime, rms, pipeline.residual_window_s(), counters, unexcited, lost);
 }
 
 std::string CheckpointDescription(const OnlineJointEstimator& estimator) {

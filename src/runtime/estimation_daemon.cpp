@@ -20,6 +20,8 @@
 #include "inertial/formats/estimator_state_file.hpp"
 #include "inertial/residual_t.hpp"
 #include "inertial/runtime/bounded_queue.hpp"
+#include "inertial/runtime/slot_ring.hpp"
+#include "inertial/runtime/stream_gap_counter.hpp"
 #include "inertial/transport/lcm_log_check.hpp"
 
 namespace inertial {
@@ -31,29 +33,107 @@ double NowSeconds() {
 
 }  // namespace
 
-// The receiver's half: the source and the decoding stage, and the queue into the estimator thread.
+// What the estimator thread hands the publisher thread: a slot of the ring, made once (the
+// residual's vectors sized for the robot), so that filling one with a residual or a request
+// allocates nothing. A payload event (rare: a payload picked up or put down) is encoded on the
+// estimator thread, which allocates as it always did; its bytes and log line go into room reserved
+// for a typical one (256 bytes each, queue_capacity slots: kept small, the ring is mostly residuals).
+struct EstimationDaemon::Outgoing {
+  enum Kind : int { kEstimate, kDiagnosis, kResidual, kPayloadEvent };
+  int kind = kEstimate;
+  std::int64_t utime = 0;
+  UpdateStatus status = UpdateStatus::kAccepted;
+  Eigen::VectorXd measured, predicted;  // kResidual
+  std::vector<std::uint8_t> bytes;      // kPayloadEvent: the encoded event
+  std::string text;                     // kPayloadEvent: its log line
+};
+
+namespace {
+
+// A log line of the receiver's, for the writer thread to write.
+struct LogLine {
+  LogLevel level = LogLevel::kInfo;
+  std::string text;
+};
+
+template <typename T>
+T Reserved(T prototype, std::size_t bytes, std::size_t text) {
+  prototype.bytes.reserve(bytes);
+  prototype.text.reserve(text);
+  return prototype;
+}
+
+LogLine ReservedLine() {
+  LogLine l;
+  l.text.reserve(512);
+  return l;
+}
+
+}  // namespace
+
+// The receiver's half: the source and the decoding stage, and the queue into the estimator thread;
+// and the sinks' hand-overs.
 struct EstimationDaemon::Impl {
-  Impl(const DaemonOptions& o, SampleDecoder d, const Sample& prototype)
-      : lcm(o.lcm_url), decoder(std::move(d)), queue(o.queue_capacity, prototype), scratch(prototype) {}
-  lcm::LCM lcm;  // received on by the receiver thread, published on by the estimator thread
+  Impl(const DaemonOptions& o, SampleDecoder d, const Sample& prototype, const Outgoing& outgoing_prototype)
+      : lcm(o.lcm_url),
+        decoder(std::move(d)),
+        queue(o.queue_capacity, prototype),
+        scratch(prototype),
+        outgoing(o.queue_capacity, outgoing_prototype),
+        receiver_log(64, ReservedLine()) {}
+  lcm::LCM lcm;  // received on by the receiver thread, published on by the publisher thread
   SampleDecoder decoder;         // receiver thread, under decode_mutex
   std::unique_ptr<CanBus> bus;   // CAN mode: frames from here instead of LCM
   BoundedQueue<Sample> queue;
   Sample scratch;  // decoded into by the receiver thread only
-  mutable std::mutex decode_mutex;  // decoder and queue_full, against counters() from other threads
+  mutable std::mutex decode_mutex;  // decoder, gaps and queue_full, against counters() from other threads
   std::uint64_t queue_full = 0;
+  StreamGapCounter gaps;           // the decoded samples' time stamps, under decode_mutex
+  bool count_gaps = true;          // false where time stamps are arrival times (a format without one)
   EstimationDaemon* owner = nullptr;
 
+  // Estimator thread -> publisher thread.
+  SlotRing<Outgoing> outgoing;
+  Doorbell publisher_bell;
+  inertial::residual_t residual;  // the publisher's; channel names set once
+  // Receiver thread -> writer thread; the estimator's requests of a checkpoint or a model file.
+  SlotRing<LogLine> receiver_log;
+  Doorbell writer_bell;
+  std::atomic<bool> checkpoint_pending{false}, model_pending{false};
+  std::atomic<std::uint64_t> residuals_dropped{0}, messages_dropped{0}, log_lines_dropped{0},
+      checkpoints_coalesced{0}, models_coalesced{0};
+
   // A rejection is logged at warn the first time its reason occurs, then at debug level (counted).
+  // The receiver does not write: the line goes to the writer thread.
   void LogRejection(Rejection r, const std::string& text) {
     const std::string reason(ToString(r));
     const bool first = owner->FirstTime("rejected " + reason);
-    owner->Log(first ? LogLevel::kWarn : LogLevel::kDebug,
-               text + (first ? " (further '" + reason + "' rejections are counted, not logged at warn)" : ""));
+    const LogLevel level = first ? LogLevel::kWarn : LogLevel::kDebug;
+    if (static_cast<int>(level) > static_cast<int>(owner->options_.log_level)) return;
+    LogLine* line = receiver_log.Claim();
+    if (line == nullptr) {
+      ++log_lines_dropped;
+      return;
+    }
+    line->level = level;
+    line->text = text + (first ? " (further '" + reason + "' rejections are counted, not logged at warn)" : "");
+    receiver_log.Commit();
+    writer_bell.Ring();
+  }
+  // Writer thread (or Run after the threads stopped): the receiver's lines, written.
+  void WriteReceiverLog() {
+    while (LogLine* line = receiver_log.Front()) {
+      owner->Log(line->level, line->text);
+      receiver_log.Pop();
+    }
   }
 
-  // A decoded sample into the queue (a full queue drops it, counted).
+  // A decoded sample into the queue (a full queue drops it, counted), its time to the gap counter.
   void Push() {
+    if (count_gaps) {
+      std::lock_guard<std::mutex> lock(decode_mutex);
+      gaps.Observe(scratch.time(decoder.body_mode()));
+    }
     if (!queue.TryPush(scratch)) {
       std::lock_guard<std::mutex> lock(decode_mutex);
       ++queue_full;
@@ -82,6 +162,7 @@ struct EstimationDaemon::Impl {
       std::lock_guard<std::mutex> lock(decode_mutex);
       decoded = decoder.DecodeMessage(rbuf->data, rbuf->data_size, rbuf->recv_utime, &scratch, &why);
       r = decoder.last_rejection();
+      if (!decoded) gaps.Skip();  // maybe the sample a gap will miss: it was received, and counted rejected
     }
     if (decoded) {
       Push();
@@ -148,8 +229,24 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
   const Sample prototype = robot_ ? Sample::ForJoints(robot_->model().num_dofs()) : Sample{};
   const bool can = decoder.can_mode();
   const std::vector<CanId> ids = decoder.can_ids();
-  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype);
+  // Time stamps that are the receive time (a format without one) show the network's jitter and
+  // bursts, not the stream's gaps: no gap counting on them.
+  const bool own_time = decoder.body_mode() || can || !options_.format.utime_field.empty();
+  Outgoing outgoing;
+  if (robot_) {
+    outgoing.measured = outgoing.predicted = Eigen::VectorXd::Zero(robot_->model().num_dofs());
+  }
+  impl_ = std::make_unique<Impl>(options_, std::move(decoder), prototype, Reserved(outgoing, 256, 256));
   impl_->owner = this;
+  impl_->count_gaps = own_time;
+  if (robot_) {
+    inertial::residual_t& m = impl_->residual;
+    m.num_channels = static_cast<std::int32_t>(robot_->model().num_dofs());
+    m.channel_names = robot_->model().dof_names();
+    m.measured.resize(static_cast<size_t>(m.num_channels));
+    m.predicted.resize(static_cast<size_t>(m.num_channels));
+    m.residual.resize(static_cast<size_t>(m.num_channels));
+  }
   if (can && bus) {
     bus->SetFilters(ids);
     impl_->bus = std::move(bus);
@@ -170,7 +267,14 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
     CheckLcmChannelName(options_.payload_channel, "inertiald: the payload event channel");
     payload_events_ = std::make_unique<PayloadEventDetector>(*robot_);
   }
-  if (!can) impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+  if (!can) {
+    // LCM queues at most 30 messages per subscription by default and drops the rest unseen (before
+    // the daemon can count them): 3 ms of a 1 kHz stream played at 10x, less than a scheduling
+    // delay of the receiver on a loaded machine. Its queue gets the length of the daemon's own
+    // (queue_capacity samples): a stall the daemon's queue would absorb is absorbed before it too.
+    lcm::Subscription* subscription = impl_->lcm.subscribe(options_.input_channel, &Impl::OnMessage, impl_.get());
+    if (subscription != nullptr) subscription->setQueueCapacity(static_cast<int>(options_.queue_capacity));
+  }
 }
 
 namespace {
@@ -329,8 +433,12 @@ lcm::LCM& EstimationDaemon::lcm() { return impl_->lcm; }
 void EstimationDaemon::WriteModel() {
   if (!model_sink_ || !robot_) return;
   try {
-    std::lock_guard<std::mutex> lock(process_mutex_);
-    model_sink_(*robot_);
+    std::function<void()> write;
+    {
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      write = model_sink_(*robot_);
+    }
+    if (write) write();
   } catch (const std::exception& e) {
     Log(LogLevel::kError, std::string("writing the model failed: ") + e.what());
   }
@@ -373,31 +481,87 @@ void EstimationDaemon::Process(Sample* sample) {
   }
   if (payload_events_ && outcome.rejection == Rejection::kNone) {
     if (const std::optional<PayloadEvent> event = payload_events_->Observe(*robot_, sample->joint)) {
-      const std::vector<std::uint8_t> bytes = EncodePayloadEvent(*event);
-      if (impl_->lcm.publish(options_.payload_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0) {
-        std::lock_guard<std::mutex> sinks(sinks_mutex_);
-        ++payload_events_published_;
+      // Rare (a payload picked up or put down): encoded here, published and logged by the publisher.
+      Outgoing* o = impl_->outgoing.Claim();
+      if (o == nullptr) {
+        ++impl_->messages_dropped;
+      } else {
+        const std::vector<std::uint8_t> bytes = EncodePayloadEvent(*event);
+        o->kind = Outgoing::kPayloadEvent;
+        o->bytes.assign(bytes.begin(), bytes.end());
+        o->text = PayloadEventText(*event);
+        impl_->outgoing.Commit();
+        impl_->publisher_bell.Ring();
       }
-      Log(LogLevel::kInfo, PayloadEventText(*event));
     }
   }
   if (!robot_ || options_.residual_channel.empty() || outcome.rejection != Rejection::kNone) return;
+  // The residual's numbers into a slot sized at start (no allocation; the joint names and the
+  // message are the publisher's, prepared once).
+  Outgoing* o = impl_->outgoing.Claim();
+  if (o == nullptr) {
+    ++impl_->residuals_dropped;
+    return;
+  }
   const JointSample& j = sample->joint;
-  inertial::residual_t m;
-  m.utime = static_cast<std::int64_t>(std::llround(j.t * 1e6));
-  m.status = std::string(ToString(outcome.status));
-  m.num_channels = static_cast<std::int32_t>(j.tau.size());
-  m.channel_names = robot_->model().dof_names();
-  m.measured.assign(j.tau.data(), j.tau.data() + j.tau.size());
-  const Eigen::VectorXd& p = robot_->predicted();
-  m.predicted.assign(p.data(), p.data() + p.size());
-  m.residual.resize(m.measured.size());
-  for (size_t k = 0; k < m.measured.size(); ++k) m.residual[k] = m.measured[k] - m.predicted[k];
-  impl_->lcm.publish(options_.residual_channel, &m);
+  o->kind = Outgoing::kResidual;
+  o->utime = static_cast<std::int64_t>(std::llround(j.t * 1e6));
+  o->status = outcome.status;
+  o->measured = j.tau;
+  o->predicted = robot_->predicted();
+  impl_->outgoing.Commit();
+  impl_->publisher_bell.Ring();
 }
 
-void EstimationDaemon::Publish(std::int64_t utime) {
-  const SampleCounters totals = counters().samples;
+bool EstimationDaemon::Request(int kind, std::int64_t utime) {
+  Outgoing* o = impl_->outgoing.Claim();
+  if (o == nullptr) {
+    ++impl_->messages_dropped;
+    return false;
+  }
+  o->kind = kind;
+  o->utime = utime;
+  impl_->outgoing.Commit();
+  impl_->publisher_bell.Ring();
+  return true;
+}
+
+void EstimationDaemon::Deliver(const Outgoing& o) {
+  switch (o.kind) {
+    case Outgoing::kEstimate:
+      Publish();
+      return;
+    case Outgoing::kDiagnosis:
+      PublishDiagnosis(o.utime);
+      return;
+    case Outgoing::kPayloadEvent:
+      if (impl_->lcm.publish(options_.payload_channel, o.bytes.data(), static_cast<unsigned>(o.bytes.size())) == 0) {
+        std::lock_guard<std::mutex> sinks(sinks_mutex_);
+        ++payload_events_published_;
+      }
+      Log(LogLevel::kInfo, o.text);
+      return;
+    case Outgoing::kResidual: {
+      inertial::residual_t& m = impl_->residual;
+      const auto n = static_cast<size_t>(o.measured.size());
+      m.utime = o.utime;
+      m.status = std::string(ToString(o.status));
+      for (size_t k = 0; k < n; ++k) {
+        m.measured[k] = o.measured[static_cast<Eigen::Index>(k)];
+        m.predicted[k] = o.predicted[static_cast<Eigen::Index>(k)];
+        m.residual[k] = m.measured[k] - m.predicted[k];
+      }
+      impl_->lcm.publish(options_.residual_channel, &m);
+      return;
+    }
+    default:
+      return;
+  }
+}
+
+void EstimationDaemon::Publish() {
+  const DaemonCounters all = counters();
+  const SampleCounters& totals = all.samples;
   std::vector<std::string> unexcited;
   {
     std::lock_guard<std::mutex> lock(sinks_mutex_);
@@ -406,7 +570,8 @@ void EstimationDaemon::Publish(std::int64_t utime) {
   std::vector<std::uint8_t> bytes;
   {
     std::lock_guard<std::mutex> lock(process_mutex_);
-    bytes = EncodeEstimate(*pipeline_, utime, totals, unexcited);
+    const auto utime = static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
+    bytes = EncodeEstimate(*pipeline_, utime, totals, unexcited, all.lost);
   }
   const bool sent = impl_->lcm.publish(options_.estimate_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0;
   {
@@ -471,12 +636,15 @@ void EstimationDaemon::FinalDiagnosis(std::int64_t utime) {
 void EstimationDaemon::Checkpoint() {
   if (options_.checkpoint_path.empty()) return;
   try {
+    // Writer thread (or Run at exit): the state copied under the estimator's lock, written after it.
     EstimatorState state;
+    std::string description;
     {
       std::lock_guard<std::mutex> lock(process_mutex_);
       state = pipeline_->estimator().State();
+      description = CheckpointDescription(*pipeline_);
     }
-    SaveEstimatorState(options_.checkpoint_path, state, CheckpointDescription(*pipeline_));
+    SaveEstimatorState(options_.checkpoint_path, state, description);
     {
       std::lock_guard<std::mutex> lock(sinks_mutex_);
       ++checkpoints_;
@@ -497,6 +665,7 @@ void EstimationDaemon::Checkpoint() {
 int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   std::atomic<bool> receiver_failed{false}, receiver_stop{false};
   Sample sample = impl_->scratch;  // before the receiver thread writes scratch (sized once)
+  // The receiver only drains the source: decode, note the time, push (Impl).
   std::thread receiver([&] {
     CanFrame frame;
     while (!receiver_stop) {
@@ -514,6 +683,46 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
       }
     }
   });
+  // The publisher: every hand-over of the estimator thread's, published on LCM. At stop, the ring
+  // is emptied first.
+  std::atomic<bool> publisher_stop{false};
+  std::thread publisher([&] {
+    for (;;) {
+      const bool stopping = publisher_stop;
+      impl_->publisher_bell.Wait(std::chrono::milliseconds(100));
+      while (const Outgoing* o = impl_->outgoing.Front()) {
+        try {
+          if (publisher_hook_) publisher_hook_();
+          Deliver(*o);
+        } catch (const std::exception& e) {  // bad input never stops the daemon; a sink's failure neither
+          if (FirstTime("deliver")) Log(LogLevel::kError, std::string("publishing failed: ") + e.what());
+        }
+        impl_->outgoing.Pop();
+      }
+      if (stopping) return;
+    }
+  });
+  // The writer: checkpoints and model files (the slow disk's), and the receiver's log lines.
+  std::atomic<bool> writer_stop{false};
+  std::thread writer([&] {
+    for (;;) {
+      const bool stopping = writer_stop;
+      impl_->writer_bell.Wait(std::chrono::milliseconds(100));
+      impl_->WriteReceiverLog();
+      if (impl_->checkpoint_pending.exchange(false)) Checkpoint();
+      if (impl_->model_pending.exchange(false)) WriteModel();
+      if (stopping) return;
+    }
+  });
+  auto stop_sinks = [&] {
+    publisher_stop = true;
+    impl_->publisher_bell.Ring();
+    publisher.join();
+    writer_stop = true;
+    impl_->writer_bell.Ring();
+    writer.join();
+    impl_->WriteReceiverLog();  // lines of the receiver's last moments
+  };
   Log(LogLevel::kInfo, "listening on " + (impl_->bus ? std::string("the CAN bus") : options_.input_channel) + ", publishing " + options_.estimate_channel + " at " +
                            std::to_string(options_.publish_rate_hz) + " Hz (" +
                            std::to_string(recursive_estimator().num_parameters()) + " parameters, " +
@@ -524,6 +733,12 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   auto utime = [&] {
     std::lock_guard<std::mutex> lock(process_mutex_);
     return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
+  };
+  // A request of the writer's: one still pending takes this one's place (it will write the state
+  // as it is then), counted.
+  auto request_write = [&](std::atomic<bool>& pending, std::atomic<std::uint64_t>& coalesced) {
+    if (pending.exchange(true)) ++coalesced;
+    impl_->writer_bell.Ring();
   };
   // The solver (gauss_newton of a robot, online_fit.hpp): the objective re-solved on a thread of
   // its own from a snapshot of the statistics, so that the estimator thread only accumulates.
@@ -558,22 +773,25 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   }
   bool failed = false;
   try {
+    // The estimator thread: pops, processes, hands over. Nothing here publishes, writes or syncs.
     while (!stop && !receiver_failed) {
       if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(&sample);
       const double now = NowSeconds();
       if (now >= next_publish) {
-        Publish(utime());
+        Request(Outgoing::kEstimate, 0);
         next_publish = now + 1.0 / options_.publish_rate_hz;
       }
       if (now >= next_checkpoint) {
-        Checkpoint();
+        if (!options_.checkpoint_path.empty()) request_write(impl_->checkpoint_pending, impl_->checkpoints_coalesced);
         next_checkpoint = now + options_.checkpoint_interval_s;
       }
       if (diagnosis_ && now >= next_diagnosis) {
-        PublishDiagnosis(utime());
+        Request(Outgoing::kDiagnosis, utime());
         next_diagnosis = now + options_.diagnosis_period_s;
       }
-      if (model_request_ != nullptr && model_request_->exchange(false)) WriteModel();
+      if (model_request_ != nullptr && model_request_->exchange(false)) {
+        request_write(impl_->model_pending, impl_->models_coalesced);
+      }
     }
   } catch (const std::exception& e) {
     Log(LogLevel::kError, std::string("estimation stopped: ") + e.what());
@@ -583,8 +801,13 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   receiver.join();
   solver_stop = true;
   if (solver.joinable()) solver.join();
-  if (failed) return 1;
+  if (failed) {
+    stop_sinks();
+    return 1;
+  }
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
+  stop_sinks();  // the residuals of the last samples published, a pending checkpoint written
+  // Estimation is over: the last publication, checkpoint and model file are written here, in order.
   if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
     std::lock_guard<std::mutex> lock(process_mutex_);
     try {
@@ -593,7 +816,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
       Log(LogLevel::kError, std::string("the final solve failed: ") + e.what());
     }
   }
-  Publish(utime());
+  Publish();
   FinalDiagnosis(utime());
   Checkpoint();
   WriteModel();
@@ -620,6 +843,18 @@ DaemonCounters EstimationDaemon::counters() const {
   c.diagnoses = diagnoses_;
   c.payload_events = payload_events_published_;
   if (diagnosis_) c.diagnosis_dropped = diagnosis_->dropped();
+  {
+    std::lock_guard<std::mutex> decode(impl_->decode_mutex);
+    c.lost = impl_->gaps.lost();
+    c.gaps = impl_->gaps.gaps();
+    c.longest_gap_s = impl_->gaps.longest_gap();
+    c.median_interval_s = impl_->gaps.median_interval();
+  }
+  c.residuals_dropped = impl_->residuals_dropped;
+  c.messages_dropped = impl_->messages_dropped;
+  c.log_lines_dropped = impl_->log_lines_dropped;
+  c.checkpoints_coalesced = impl_->checkpoints_coalesced;
+  c.models_coalesced = impl_->models_coalesced;
   return c;
 }
 
@@ -631,13 +866,26 @@ std::string EstimationDaemon::CountersText() const {
   out << "received " << s.received << ", accepted " << s.accepted << ", rejected " << s.total_rejected() - dropped;
   const std::string reasons = RejectionsText(s, Rejection::kQueueFull);
   if (!reasons.empty()) out << " (" << reasons << ")";
-  out << ", dropped " << dropped << "; published " << c.published << " estimates, " << c.checkpoints
-      << " checkpoints";
+  // dropped: inside the daemon (its queue was full); lost: before it (gaps in the stream's time stamps).
+  out << ", dropped " << dropped << " (queue full); lost " << c.lost << " before the daemon (" << c.gaps
+      << " gaps in the time stamps";
+  if (c.gaps > 0) out << ", the longest " << c.longest_gap_s << " s";
+  if (c.median_interval_s > 0) out << "; median interval " << c.median_interval_s * 1e3 << " ms";
+  out << "); published " << c.published << " estimates, " << c.checkpoints << " checkpoints";
   if (c.diagnoses > 0) out << "; " << c.diagnoses << " diagnoses";
   if (c.payload_events > 0) out << "; " << c.payload_events << " payload events";
   if (c.diagnosis_dropped > 0) out << "; " << c.diagnosis_dropped << " samples the diagnosis had no room for";
   if (c.publish_failures > 0) out << "; " << c.publish_failures << " estimates LCM could not send";
   if (c.checkpoint_failures > 0) out << "; " << c.checkpoint_failures << " checkpoints that could not be written";
+  const std::uint64_t at_sink = c.residuals_dropped + c.messages_dropped + c.log_lines_dropped;
+  out << "; dropped at the sink " << at_sink;
+  if (at_sink > 0) {
+    out << " (" << c.residuals_dropped << " residuals, " << c.messages_dropped << " estimates, diagnoses or events, "
+        << c.log_lines_dropped << " log lines)";
+  }
+  if (c.checkpoints_coalesced + c.models_coalesced > 0) {
+    out << "; coalesced " << c.checkpoints_coalesced << " checkpoints, " << c.models_coalesced << " model files";
+  }
   return out.str();
 }
 

@@ -146,10 +146,16 @@ TEST(EstimateMessage, CheckpointDescriptionListsJointsAndParameters) {
   EXPECT_EQ(m.estimator, "gradient");
   EXPECT_EQ(m.residual_window, 0.5);
   EXPECT_EQ(m.residual_rms, (std::vector<double>{0.0, 0.0, 0.0}));  // nothing seen yet
+  EXPECT_EQ(m.lost, 0);  // replay's: nothing lost before it
+  // The daemon's samples lost before it (gaps in the time stamps), apart from dropped.
+  const inertial::estimate_t lost = Decode(EncodeEstimate(pipeline, 7, Counters(), {}, 42));
+  EXPECT_EQ(lost.lost, 42);
+  EXPECT_EQ(lost.dropped, m.dropped);
 
   OnlineBodyEstimator body(SolidCylinder(1.0, 0.05, 0.2));
   SamplePipeline body_pipeline(&body, 0.5);
   EXPECT_EQ(CheckpointDescription(body_pipeline), "gauss_newton estimator; single body");
+  EXPECT_EQ(Decode(EncodeEstimate(body_pipeline, 7, Counters(), {}, 3)).lost, 3);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <thread>
 
 #include "cli_support.hpp"
@@ -261,6 +262,134 @@ TEST(EstimationDaemon, ABurstIsAccountedFor) {
   EXPECT_EQ(c.samples.received, 2000u);
   EXPECT_EQ(c.samples.accepted + c.samples.total_rejected(), 2000u) << daemon.CountersText();
   EXPECT_GE(c.samples.accepted, 8u);
+}
+
+// Issue 37: samples lost before the daemon (never received) are counted from the gaps they leave
+// in the time stamps, apart from those dropped inside it; the reference is the list left out.
+TEST(EstimationDaemon, CountsSamplesLostBeforeItApartFromDropped) {
+  const Stream& s = LegStream();
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), MemqOptions());
+  Captured captured;
+  daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  const std::set<int> left_out = {300, 301, 302, 700, 1500};
+  std::uint64_t sent = 0;
+  for (int i = 0; i < 2000; ++i) {
+    if (left_out.count(i) != 0) continue;
+    const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+    ++sent;
+    if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  WaitFor(daemon, sent);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // at least one more publication
+  stop = true;
+  runner.join();
+  const DaemonCounters c = daemon.counters();
+  EXPECT_EQ(c.samples.received, sent);
+  EXPECT_EQ(c.lost, left_out.size());
+  {
+    std::lock_guard<std::mutex> lock(captured.mutex);
+    ASSERT_FALSE(captured.estimates.empty());
+    EXPECT_EQ(captured.estimates.back().lost, static_cast<std::int64_t>(left_out.size()));  // the status message
+    EXPECT_EQ(captured.estimates.back().dropped, 0);
+  }
+  EXPECT_EQ(c.gaps, 3u);
+  EXPECT_NEAR(c.median_interval_s, 1.0 / 200, 1e-9);
+  EXPECT_NEAR(c.longest_gap_s, 4.0 / 200, 1e-9);
+  EXPECT_EQ(c.samples[Rejection::kQueueFull], 0u);
+  EXPECT_NE(daemon.CountersText().find("dropped 0 (queue full); lost 5 before the daemon (3 gaps"), std::string::npos)
+      << daemon.CountersText();
+}
+
+// Issue 37: the estimator thread only hands over. A model writer that hangs (a slow disk) holds up
+// neither the estimator (every sample is processed meanwhile) nor the publisher (estimates go on);
+// requests made meanwhile are coalesced into one pending write, counted.
+TEST(EstimationDaemon, AWriterThatHangsDelaysNeitherTheEstimatorNorThePublisher) {
+  const Stream& s = LegStream();
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), MemqOptions());
+  std::atomic<bool> request{false}, release{false};
+  std::atomic<int> writes{0}, entered{0};
+  daemon.set_model_sink(
+      [&](const OnlineJointEstimator&) {
+        return std::function<void()>([&] {
+          ++entered;
+          while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+          ++writes;
+        });
+      },
+      &request);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  request = true;
+  for (int i = 0; i < 2000 && entered == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_EQ(entered, 1);  // the writer is now stuck in its first write
+  const std::uint64_t published_before = daemon.counters().published;
+  for (int i = 0; i < 1000; ++i) {
+    const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+    if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  WaitFor(daemon, 1000);  // processed while the writer hangs
+  EXPECT_EQ(daemon.counters().samples.accepted, 1000u);
+  for (int i = 0; i < 200 && daemon.counters().published < published_before + 3; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_GE(daemon.counters().published, published_before + 3);  // 50 Hz: estimates went on
+  for (int k = 0; k < 3; ++k) {  // three more requests: one pending, two merged into it
+    request = true;
+    for (int i = 0; i < 2000 && request; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(daemon.counters().models_coalesced, 2u);
+  EXPECT_EQ(writes, 0);
+  release = true;
+  stop = true;
+  runner.join();
+  EXPECT_EQ(writes, 3);  // the hung one, the pending one, the one at exit
+  EXPECT_NE(daemon.CountersText().find("coalesced 0 checkpoints, 2 model files"), std::string::npos)
+      << daemon.CountersText();
+}
+
+// Issue 37: a publisher that is behind (here: held by the test) makes the estimator drop residuals
+// at the sink, counted, never wait: every sample is still processed, and residuals published plus
+// residuals dropped are the samples, one each.
+TEST(EstimationDaemon, APublisherBehindDropsResidualsAndCountsThem) {
+  const Stream& s = LegStream();
+  DaemonOptions o = MemqOptions();
+  o.residual_channel = "INERTIAL_RESIDUAL";
+  o.queue_capacity = 64;  // the publisher's ring too
+  EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
+  std::atomic<bool> release{false};
+  daemon.set_publisher_hook_for_tests([&] {
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  CapturedResiduals captured;
+  daemon.lcm().subscribe("INERTIAL_RESIDUAL", &CapturedResiduals::Handle, &captured);
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { daemon.Run(stop); });
+  for (int i = 0; i < 1000; ++i) {
+    const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
+    daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
+    if (i % 50 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  WaitFor(daemon, 1000);  // the estimator went on while nothing was published
+  // (The receive queue is 64 long too: on a loaded machine it may drop a few, counted.)
+  const DaemonCounters held = daemon.counters();
+  const std::uint64_t processed = 1000u - held.samples[Rejection::kQueueFull];
+  EXPECT_EQ(held.samples.accepted, processed);
+  EXPECT_GT(processed, 500u);
+  // At most the ring's 64 slots were taken (estimate requests among them); the rest was dropped.
+  EXPECT_GE(held.residuals_dropped, processed - 64u);
+  release = true;
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the ring's residuals delivered
+  stop = true;
+  runner.join();
+  const DaemonCounters c = daemon.counters();
+  std::lock_guard<std::mutex> lock(captured.mutex);
+  EXPECT_EQ(captured.residuals.size() + c.residuals_dropped, processed);
+  EXPECT_NE(daemon.CountersText().find(std::to_string(c.residuals_dropped) + " residuals"), std::string::npos)
+      << daemon.CountersText();
 }
 
 // Stopped and started again with a checkpoint: the state comes back bit for bit.

@@ -22,18 +22,21 @@ namespace inertial {
 /// The estimate message of the pipeline's estimator now (robot or body), with `counters`
 /// (normally TotalCounters of its stages).
 /// `unexcited`: the quantities the stream did not determine (excitation_monitor.hpp), robot mode.
+/// `lost`: samples lost before the daemon (stream_gap_counter.hpp), estimate_t.lost.
 std::vector<std::uint8_t> EncodeEstimate(const SamplePipeline& pipeline, std::int64_t utime, const SampleCounters& counters,
-                                         const std::vector<std::string>& unexcited = {});
+                                         const std::vector<std::string>& unexcited = {}, std::uint64_t lost = 0);
 
 /// The estimate message of the single-body estimator (one body `name`; channels mx .. fz).
 std::vector<std::uint8_t> EncodeBodyEstimate(const OnlineBodyEstimator& estimator, const std::string& name,
                                              std::int64_t utime, const Eigen::VectorXd& residual_rms,
-                                             double residual_window, const SampleCounters& counters);
+                                             double residual_window, const SampleCounters& counters,
+                                             std::uint64_t lost = 0);
 
 /// The estimate message of an online estimator (bodies, effects, residual RMS, counters).
 std::vector<std::uint8_t> EncodeEstimate(const OnlineJointEstimator& estimator, std::int64_t utime,
                                          const Eigen::VectorXd& residual_rms, double residual_window,
-                                         const SampleCounters& counters, const std::vector<std::string>& unexcited = {});
+                                         const SampleCounters& counters, const std::vector<std::string>& unexcited = {},
+                                         std::uint64_t lost = 0);
 
 /// What a robot estimator's checkpoint says of its model ("gauss_newton estimator; joints ...;
 /// parameters ..."): a checkpoint is restored only into an estimator with the same description.
