@@ -30,6 +30,19 @@
 namespace inertial {
 namespace {
 
+// The daemon's Run on a thread, stopped and joined however the test ends (a failed ASSERT returns
+// early: a joinable std::thread would then terminate the program and hide the failure).
+struct DaemonRunner {
+  std::atomic<bool>& stop;
+  std::thread thread;
+  void join() { thread.join(); }
+  ~DaemonRunner() {
+    stop = true;
+    if (thread.joinable()) thread.join();
+  }
+};
+
+
 // RMS of the difference of the torques two coefficient vectors predict for the samples, over the
 // RMS of the measured torques.
 double TorqueDifference(const RobotDynamics& model, const Eigen::VectorXd& wa, const Eigen::VectorXd& wb,
@@ -107,7 +120,7 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   Captured captured;
   daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
 
   testing::Rng rng(5);
   std::map<std::string, int> bad;
@@ -219,7 +232,7 @@ TEST(EstimationDaemon, PublishesAResidualPerSample) {
   CapturedResiduals captured;
   daemon.lcm().subscribe("INERTIAL_RESIDUAL", &CapturedResiduals::Handle, &captured);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   for (int i = 0; i < 200; ++i) {
     const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
     daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
@@ -254,7 +267,7 @@ TEST(EstimationDaemon, ABurstIsAccountedFor) {
     daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
   }
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   WaitFor(daemon, 2000);
   stop = true;
   runner.join();
@@ -272,7 +285,7 @@ TEST(EstimationDaemon, CountsSamplesLostBeforeItApartFromDropped) {
   Captured captured;
   daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   const std::set<int> left_out = {300, 301, 302, 700, 1500};
   std::uint64_t sent = 0;
   for (int i = 0; i < 2000; ++i) {
@@ -321,7 +334,7 @@ TEST(EstimationDaemon, AWriterThatHangsDelaysNeitherTheEstimatorNorThePublisher)
       },
       &request);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   request = true;
   for (int i = 0; i < 2000 && entered == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   ASSERT_EQ(entered, 1);  // the writer is now stuck in its first write
@@ -367,7 +380,7 @@ TEST(EstimationDaemon, APublisherBehindDropsResidualsAndCountsThem) {
   CapturedResiduals captured;
   daemon.lcm().subscribe("INERTIAL_RESIDUAL", &CapturedResiduals::Handle, &captured);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   for (int i = 0; i < 1000; ++i) {
     const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[static_cast<size_t>(i)]);
     daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
@@ -403,7 +416,7 @@ TEST(EstimationDaemon, CheckpointRestoresTheState) {
     EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
     EXPECT_FALSE(daemon.restored_from_checkpoint());
     std::atomic<bool> stop{false};
-    std::thread runner([&] { daemon.Run(stop); });
+    DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
     for (int i = 0; i < 500; ++i) {
       const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[i]);
       daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
@@ -456,13 +469,20 @@ TEST(EstimationDaemon, SaysOnceWhatItCannotDo) {
     lines.push_back(line);
   });
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   auto wait_until = [&](const std::function<bool(const DaemonCounters&)>& done) {
     for (int i = 0; i < 2000 && !done(daemon.counters()); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     return done(daemon.counters());
   };
   ASSERT_TRUE(wait_until([](const DaemonCounters& c) { return c.checkpoints >= 1; }));
-  fs::remove_all(dir);  // the checkpoint's directory goes away while the daemon runs
+  // The checkpoint's directory goes away while the daemon runs. The daemon's writer may put a new
+  // file in it while remove_all walks it ("Directory not empty"): walk again until it is gone.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::error_code error;
+    fs::remove_all(dir, error);
+    if (!fs::exists(dir)) break;
+  }
+  ASSERT_FALSE(fs::exists(dir));
   ASSERT_TRUE(wait_until([](const DaemonCounters& c) { return c.checkpoint_failures >= 10; }));
   std::uint64_t sent = 0;
   for (int i = 0; i < 40; ++i) {  // 20 undecodable messages and 20 of an unknown joint, among good ones
@@ -581,7 +601,7 @@ TEST(EstimationDaemon, AcceptsAUsersOwnMessageLayout) {
   EXPECT_EQ(o.estimator.kind, EstimatorKind::kGradient);
   EstimationDaemon daemon(MakeRobotDynamics(s.robot, {}), o);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   const std::uint64_t fingerprint = LcmFingerprint(o.format.layout);
   for (int i = 0; i < 300; ++i) {
     std::vector<std::uint8_t> b;
@@ -645,7 +665,7 @@ TEST(EstimationDaemon, MotorsOnACanBus) {
   DaemonOptions o = MemqOptions();
   EstimationDaemon daemon(model, o, can, std::move(bus));
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   CanFrame unknown;
   unknown.id = 0x77;  // filtered out by the bus: never reaches the daemon
   wire->Push(unknown);
@@ -707,7 +727,7 @@ TEST(EstimationDaemon, SingleBodyFromWrenchMessages) {
   const InertialParams prior = InertialParams::FromMassComInertia(1.0, Vector3::Zero(), 0.02 * Matrix3::Identity());
   EstimationDaemon daemon(prior, o);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   int sent = 0;
   // The same messages also into an LCM log, for the replay below.
   const std::string log_path = testing::UniqueTempPath("body.lcm").string();
@@ -783,7 +803,7 @@ std::vector<inertial::estimate_t> RunOn(EstimationDaemon& daemon, const Stream& 
   Captured captured;
   lcm::Subscription* subscription = daemon.lcm().subscribe("INERTIAL_ESTIMATE", &Captured::Handle, &captured);
   std::atomic<bool> stop{false};
-  std::thread runner([&] { daemon.Run(stop); });
+  DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
   for (size_t i = begin; i < end; ++i) {
     const std::vector<std::uint8_t> m = EncodeJointState(s.robot.dof_names, s.samples[i]);
     daemon.lcm().publish("INERTIAL_JOINT_STATE", m.data(), static_cast<unsigned>(m.size()));
