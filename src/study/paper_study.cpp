@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <random>
@@ -98,6 +99,128 @@ std::vector<TwistWrenchSample> SimulateStudyBody(const InertialParams& body, std
   return samples;
 }
 
+namespace {
+
+using StudyMaps = std::array<const Parameterization*, kStudyMethods>;
+
+// Body `index` of the study: drawn, simulated, fitted by linear least squares and by each
+// parameterization from its start; then which consistent fits stopped short of the best cost.
+void StudyBody(const StudyOptions& options, const StudyMaps& parameterizations,
+               const std::array<Vector10, kStudyMethods>& x_start, int index, BodyOutcome& out) {
+  const InertialParams truth = SampleTableIBody(options.seed, index);
+  out.pi_true = truth.vector();
+  const std::vector<TwistWrenchSample> samples =
+      SimulateStudyBody(truth, options.seed, index, options, &out.integrator_steps);
+  const LinearRegression regression = BuildMidpointRegression(samples);
+  const LinearLeastSquaresResult lls = SolveLinearLeastSquares(regression);
+  out.pi_linear_ls = lls.pi;
+  out.linear_ls_cost = lls.cost;
+  out.linear_ls_report = CheckConsistency(InertialParams::FromVector(lls.pi));
+  out.linear_ls_parameter_error = RelativeParameterError(lls.pi, out.pi_true);
+  for (int k = 0; k < kStudyMethods; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const LevenbergMarquardtResult fit =
+        FitLevenbergMarquardt(*parameterizations[k], regression, x_start[k], options.solver);
+    const auto t1 = std::chrono::steady_clock::now();
+    MethodOutcome& m = out.methods[k];
+    m.seconds = std::chrono::duration<double>(t1 - t0).count();
+    m.iterations = fit.iterations;
+    m.reason = fit.reason;
+    m.cost = fit.cost;
+    m.pi = fit.pi;
+    m.consistent = parameterizations[k]->YieldsConsistentBody(fit.x);
+    m.near_degenerate = m.consistent && !IsPhysicallyConsistent(InertialParams::FromVector(fit.pi));
+    m.failed = !fit.converged() || (k != kLinear && !m.consistent);
+    m.parameter_error = RelativeParameterError(fit.pi, out.pi_true);
+  }
+  // The best cost any consistent method reached on this body.
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = kEigenvalue; k < kStudyMethods; ++k) {
+    if (out.methods[k].consistent) best = std::min(best, out.methods[k].cost);
+  }
+  for (int k = kEigenvalue; k < kStudyMethods; ++k) {
+    MethodOutcome& m = out.methods[k];
+    m.suboptimal = m.consistent && m.cost > best * (1.0 + kSuboptimalRelativeCost);
+  }
+}
+
+// body(i) for i in [0, count) on `threads` threads (0: one per core); the first exception rethrown.
+void ForEachBodyInParallel(int count, int threads_asked, const std::function<void(int)>& body) {
+  const int threads = std::max(
+      1, std::min(threads_asked > 0 ? threads_asked : static_cast<int>(std::thread::hardware_concurrency()), count));
+  std::atomic<int> next{0};
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> pool;
+  for (int w = 0; w < threads; ++w) {
+    pool.emplace_back([&, w] {
+      try {
+        for (int i = next++; i < count; i = next++) body(i);
+      } catch (...) {
+        errors[w] = std::current_exception();
+      }
+    });
+  }
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+// The summary of the outcomes (Section VI's tables).
+StudySummary Summarize(const std::vector<BodyOutcome>& bodies) {
+  StudySummary s;
+  s.bodies = static_cast<int>(bodies.size());
+  double sum_negative_eigenvalue = 0.0, sum_triangle = 0.0;
+  std::vector<double> lls_errors;
+  for (const BodyOutcome& b : bodies) {
+    const ConsistencyReport& r = b.linear_ls_report;
+    lls_errors.push_back(b.linear_ls_parameter_error);
+    s.integrator_steps += b.integrator_steps;
+    if (r.fully_consistent()) continue;
+    ++s.nonphysical;
+    if (!r.mass_positive) ++s.negative_mass;
+    if (!r.inertia_positive_definite_origin) {
+      ++s.not_positive_definite;
+      sum_negative_eigenvalue += r.min_inertia_eigenvalue_origin;
+    }
+    if (r.mass_positive && !r.inertia_positive_definite_com) ++s.not_positive_definite_com;
+    if (r.mass_positive && !r.triangle_inequalities) {
+      ++s.triangle_violations;
+      sum_triangle += r.min_triangle_margin;
+    }
+  }
+  s.mean_most_negative_eigenvalue = s.not_positive_definite > 0 ? sum_negative_eigenvalue / s.not_positive_definite : 0.0;
+  s.mean_triangle_violation = s.triangle_violations > 0 ? sum_triangle / s.triangle_violations : 0.0;
+  s.median_linear_ls_parameter_error = Median(lls_errors);
+  for (int k = 0; k < kStudyMethods; ++k) {
+    MethodSummary& ms = s.methods[k];
+    std::vector<double> iterations, errors_k;
+    for (const BodyOutcome& b : bodies) {
+      const MethodOutcome& m = b.methods[k];
+      ms.iterations.push_back(m.iterations);
+      iterations.push_back(m.iterations);
+      errors_k.push_back(m.parameter_error);
+      ms.total_iterations += m.iterations;
+      ms.total_seconds += m.seconds;
+      if (m.failed) ++ms.failures;
+      if (m.reason == StopReason::kMaxIterations) ++ms.max_iteration_stops;
+      if (m.reason == StopReason::kNumericalFailure) ++ms.numerical_failures;
+      if (!m.consistent) ++ms.inconsistent_results;
+      if (m.near_degenerate) ++ms.near_degenerate_results;
+      if (m.suboptimal) ++ms.suboptimal_results;
+    }
+    ms.seconds_per_iteration = ms.total_iterations > 0 ? ms.total_seconds / ms.total_iterations : 0.0;
+    ms.median_iterations = Median(iterations);
+    ms.median_parameter_error = Median(errors_k);
+    double sum = 0.0;
+    for (double e : errors_k) sum += e;
+    ms.mean_parameter_error = sum / errors_k.size();
+  }
+  return s;
+}
+
+}  // namespace
+
 StudyResult RunStudy(const StudyOptions& options) {
   if (options.bodies < 1) throw std::invalid_argument("study: --bodies must be at least 1");
   if (!(options.duration > 0.0) || !(options.sample_interval > 0.0) ||
@@ -126,115 +249,11 @@ StudyResult RunStudy(const StudyOptions& options) {
     }
   }
 
-  auto run_body = [&](int index) {
-    BodyOutcome& out = result.bodies[index];
-    const InertialParams truth = SampleTableIBody(options.seed, index);
-    out.pi_true = truth.vector();
-    const std::vector<TwistWrenchSample> samples =
-        SimulateStudyBody(truth, options.seed, index, options, &out.integrator_steps);
-    const LinearRegression regression = BuildMidpointRegression(samples);
-    const LinearLeastSquaresResult lls = SolveLinearLeastSquares(regression);
-    out.pi_linear_ls = lls.pi;
-    out.linear_ls_cost = lls.cost;
-    out.linear_ls_report = CheckConsistency(InertialParams::FromVector(lls.pi));
-    out.linear_ls_parameter_error = RelativeParameterError(lls.pi, out.pi_true);
-    for (int k = 0; k < kStudyMethods; ++k) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const LevenbergMarquardtResult fit =
-          FitLevenbergMarquardt(*parameterizations[k], regression, x_start[k], options.solver);
-      const auto t1 = std::chrono::steady_clock::now();
-      MethodOutcome& m = out.methods[k];
-      m.seconds = std::chrono::duration<double>(t1 - t0).count();
-      m.iterations = fit.iterations;
-      m.reason = fit.reason;
-      m.cost = fit.cost;
-      m.pi = fit.pi;
-      m.consistent = parameterizations[k]->YieldsConsistentBody(fit.x);
-      m.near_degenerate = m.consistent && !IsPhysicallyConsistent(InertialParams::FromVector(fit.pi));
-      m.failed = !fit.converged() || (k != kLinear && !m.consistent);
-      m.parameter_error = RelativeParameterError(fit.pi, out.pi_true);
-    }
-    // The best cost any consistent method reached on this body.
-    double best = std::numeric_limits<double>::infinity();
-    for (int k = kEigenvalue; k < kStudyMethods; ++k) {
-      if (out.methods[k].consistent) best = std::min(best, out.methods[k].cost);
-    }
-    for (int k = kEigenvalue; k < kStudyMethods; ++k) {
-      MethodOutcome& m = out.methods[k];
-      m.suboptimal = m.consistent && m.cost > best * (1.0 + kSuboptimalRelativeCost);
-    }
-  };
-
-  const int threads = std::max(1, std::min(options.threads > 0 ? options.threads
-                                                                : static_cast<int>(std::thread::hardware_concurrency()),
-                                           options.bodies));
-  std::atomic<int> next{0};
-  std::vector<std::exception_ptr> errors(threads);
-  std::vector<std::thread> pool;
-  for (int w = 0; w < threads; ++w) {
-    pool.emplace_back([&, w] {
-      try {
-        for (int i = next++; i < options.bodies; i = next++) run_body(i);
-      } catch (...) {
-        errors[w] = std::current_exception();
-      }
-    });
-  }
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-
-  // Summary.
-  StudySummary& s = result.summary;
-  s.bodies = options.bodies;
-  double sum_negative_eigenvalue = 0.0, sum_triangle = 0.0;
-  std::vector<double> lls_errors;
-  for (const BodyOutcome& b : result.bodies) {
-    const ConsistencyReport& r = b.linear_ls_report;
-    lls_errors.push_back(b.linear_ls_parameter_error);
-    s.integrator_steps += b.integrator_steps;
-    if (r.fully_consistent()) continue;
-    ++s.nonphysical;
-    if (!r.mass_positive) ++s.negative_mass;
-    if (!r.inertia_positive_definite_origin) {
-      ++s.not_positive_definite;
-      sum_negative_eigenvalue += r.min_inertia_eigenvalue_origin;
-    }
-    if (r.mass_positive && !r.inertia_positive_definite_com) ++s.not_positive_definite_com;
-    if (r.mass_positive && !r.triangle_inequalities) {
-      ++s.triangle_violations;
-      sum_triangle += r.min_triangle_margin;
-    }
-  }
-  s.mean_most_negative_eigenvalue = s.not_positive_definite > 0 ? sum_negative_eigenvalue / s.not_positive_definite : 0.0;
-  s.mean_triangle_violation = s.triangle_violations > 0 ? sum_triangle / s.triangle_violations : 0.0;
-  s.median_linear_ls_parameter_error = Median(lls_errors);
-  for (int k = 0; k < kStudyMethods; ++k) {
-    MethodSummary& ms = s.methods[k];
-    std::vector<double> iterations, errors_k;
-    for (const BodyOutcome& b : result.bodies) {
-      const MethodOutcome& m = b.methods[k];
-      ms.iterations.push_back(m.iterations);
-      iterations.push_back(m.iterations);
-      errors_k.push_back(m.parameter_error);
-      ms.total_iterations += m.iterations;
-      ms.total_seconds += m.seconds;
-      if (m.failed) ++ms.failures;
-      if (m.reason == StopReason::kMaxIterations) ++ms.max_iteration_stops;
-      if (m.reason == StopReason::kNumericalFailure) ++ms.numerical_failures;
-      if (!m.consistent) ++ms.inconsistent_results;
-      if (m.near_degenerate) ++ms.near_degenerate_results;
-      if (m.suboptimal) ++ms.suboptimal_results;
-    }
-    ms.seconds_per_iteration = ms.total_iterations > 0 ? ms.total_seconds / ms.total_iterations : 0.0;
-    ms.median_iterations = Median(iterations);
-    ms.median_parameter_error = Median(errors_k);
-    double sum = 0.0;
-    for (double e : errors_k) sum += e;
-    ms.mean_parameter_error = sum / errors_k.size();
-  }
-  s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ForEachBodyInParallel(options.bodies, options.threads, [&](int index) {
+    StudyBody(options, parameterizations, x_start, index, result.bodies[index]);
+  });
+  result.summary = Summarize(result.bodies);
+  result.summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
