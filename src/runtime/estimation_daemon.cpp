@@ -662,58 +662,145 @@ void EstimationDaemon::Checkpoint() {
   }
 }
 
+void EstimationDaemon::ReceiveLoop(const std::atomic<bool>& stop, std::atomic<bool>& failed) {
+  CanFrame frame;
+  while (!stop) {
+    if (impl_->bus) {
+      try {
+        if (impl_->bus->Read(&frame, 50)) impl_->OnFrame(frame);
+      } catch (const std::exception& e) {
+        Log(LogLevel::kError, e.what());
+        failed = true;
+        return;
+      }
+    } else if (impl_->lcm.handleTimeout(50) < 0) {
+      failed = true;
+      return;
+    }
+  }
+}
+
+void EstimationDaemon::PublishLoop(const std::atomic<bool>& stop) {
+  for (;;) {
+    const bool stopping = stop;
+    impl_->publisher_bell.Wait(std::chrono::milliseconds(100));
+    while (const Outgoing* o = impl_->outgoing.Front()) {
+      try {
+        if (publisher_hook_) publisher_hook_();
+        Deliver(*o);
+      } catch (const std::exception& e) {  // bad input never stops the daemon; a sink's failure neither
+        if (FirstTime("deliver")) Log(LogLevel::kError, std::string("publishing failed: ") + e.what());
+      }
+      impl_->outgoing.Pop();
+    }
+    if (stopping) return;
+  }
+}
+
+void EstimationDaemon::WriteLoop(const std::atomic<bool>& stop) {
+  for (;;) {
+    const bool stopping = stop;
+    impl_->writer_bell.Wait(std::chrono::milliseconds(100));
+    impl_->WriteReceiverLog();
+    if (impl_->checkpoint_pending.exchange(false)) Checkpoint();
+    if (impl_->model_pending.exchange(false)) WriteModel();
+    if (stopping) return;
+  }
+}
+
+void EstimationDaemon::SolveLoop(const std::atomic<bool>& stop) {
+  while (!stop) {
+    std::optional<OnlineFitSnapshot> snapshot;
+    {
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      if (robot_->SolveDue()) snapshot = robot_->fit()->Snapshot();
+    }
+    if (!snapshot) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      continue;
+    }
+    bool adopted = false;
+    try {
+      const OnlineFitSolution solution = SolveOnlineFit(robot_->model(), *snapshot, robot_->fit()->options());
+      std::lock_guard<std::mutex> lock(process_mutex_);
+      adopted = robot_->Adopt(solution);
+      pipeline_->Reconcile();
+    } catch (const std::exception& e) {
+      if (FirstTime("solve")) Log(LogLevel::kError, std::string("the solve failed: ") + e.what());
+    }
+    // A solve that failed or gave an estimate not taken is not retried at once: a second of
+    // rest keeps a failing solve from taking a core.
+    if (!adopted) std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+}
+
+void EstimationDaemon::FinishRun(std::int64_t utime) {
+  // Estimation is over: the last publication, checkpoint and model file are written here, in order.
+  if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
+    std::lock_guard<std::mutex> lock(process_mutex_);
+    try {
+      pipeline_->Solve(true);
+    } catch (const std::exception& e) {  // the checkpoint and the model are still written
+      Log(LogLevel::kError, std::string("the final solve failed: ") + e.what());
+    }
+  }
+  Publish();
+  FinalDiagnosis(utime);
+  Checkpoint();
+  WriteModel();
+  Log(LogLevel::kInfo, CountersText());
+}
+
+std::int64_t EstimationDaemon::LastUtime() const {
+  std::lock_guard<std::mutex> lock(process_mutex_);
+  return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
+}
+
+void EstimationDaemon::EstimateLoop(const std::atomic<bool>& stop, const std::atomic<bool>& receiver_failed,
+                                    Sample* sample_buffer) {
+  Sample& sample = *sample_buffer;
+  double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
+  double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
+  double next_diagnosis = NowSeconds() + options_.diagnosis_period_s;
+  // A request of the writer's: one still pending takes this one's place (it will write the state
+  // as it is then), counted.
+  auto request_write = [&](std::atomic<bool>& pending, std::atomic<std::uint64_t>& coalesced) {
+    if (pending.exchange(true)) ++coalesced;
+    impl_->writer_bell.Ring();
+  };
+  // The estimator thread: pops, processes, hands over. Nothing here publishes, writes or syncs.
+  while (!stop && !receiver_failed) {
+    if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(&sample);
+    const double now = NowSeconds();
+    if (now >= next_publish) {
+      Request(Outgoing::kEstimate, 0);
+      next_publish = now + 1.0 / options_.publish_rate_hz;
+    }
+    if (now >= next_checkpoint) {
+      if (!options_.checkpoint_path.empty()) request_write(impl_->checkpoint_pending, impl_->checkpoints_coalesced);
+      next_checkpoint = now + options_.checkpoint_interval_s;
+    }
+    if (diagnosis_ && now >= next_diagnosis) {
+      Request(Outgoing::kDiagnosis, LastUtime());
+      next_diagnosis = now + options_.diagnosis_period_s;
+    }
+    if (model_request_ != nullptr && model_request_->exchange(false)) {
+      request_write(impl_->model_pending, impl_->models_coalesced);
+    }
+  }
+}
+
 int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   std::atomic<bool> receiver_failed{false}, receiver_stop{false};
   Sample sample = impl_->scratch;  // before the receiver thread writes scratch (sized once)
   // The receiver only drains the source: decode, note the time, push (Impl).
-  std::thread receiver([&] {
-    CanFrame frame;
-    while (!receiver_stop) {
-      if (impl_->bus) {
-        try {
-          if (impl_->bus->Read(&frame, 50)) impl_->OnFrame(frame);
-        } catch (const std::exception& e) {
-          Log(LogLevel::kError, e.what());
-          receiver_failed = true;
-          return;
-        }
-      } else if (impl_->lcm.handleTimeout(50) < 0) {
-        receiver_failed = true;
-        return;
-      }
-    }
-  });
-  // The publisher: every hand-over of the estimator thread's, published on LCM. At stop, the ring
-  // is emptied first.
-  std::atomic<bool> publisher_stop{false};
-  std::thread publisher([&] {
-    for (;;) {
-      const bool stopping = publisher_stop;
-      impl_->publisher_bell.Wait(std::chrono::milliseconds(100));
-      while (const Outgoing* o = impl_->outgoing.Front()) {
-        try {
-          if (publisher_hook_) publisher_hook_();
-          Deliver(*o);
-        } catch (const std::exception& e) {  // bad input never stops the daemon; a sink's failure neither
-          if (FirstTime("deliver")) Log(LogLevel::kError, std::string("publishing failed: ") + e.what());
-        }
-        impl_->outgoing.Pop();
-      }
-      if (stopping) return;
-    }
-  });
-  // The writer: checkpoints and model files (the slow disk's), and the receiver's log lines.
-  std::atomic<bool> writer_stop{false};
-  std::thread writer([&] {
-    for (;;) {
-      const bool stopping = writer_stop;
-      impl_->writer_bell.Wait(std::chrono::milliseconds(100));
-      impl_->WriteReceiverLog();
-      if (impl_->checkpoint_pending.exchange(false)) Checkpoint();
-      if (impl_->model_pending.exchange(false)) WriteModel();
-      if (stopping) return;
-    }
-  });
+  std::thread receiver([&] { ReceiveLoop(receiver_stop, receiver_failed); });
+  // The publisher: every hand-over of the estimator thread's, published on LCM; the writer:
+  // checkpoints and model files (the slow disk's), and the receiver's log lines. At stop, their
+  // work is emptied first.
+  std::atomic<bool> publisher_stop{false}, writer_stop{false};
+  std::thread publisher([&] { PublishLoop(publisher_stop); });
+  std::thread writer([&] { WriteLoop(writer_stop); });
   auto stop_sinks = [&] {
     publisher_stop = true;
     impl_->publisher_bell.Ring();
@@ -727,72 +814,14 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
                            std::to_string(options_.publish_rate_hz) + " Hz (" +
                            std::to_string(recursive_estimator().num_parameters()) + " parameters, " +
                            std::string(recursive_estimator().kind()) + (body_ ? ", single body" : "") + ")");
-  double next_publish = NowSeconds() + 1.0 / options_.publish_rate_hz;
-  double next_checkpoint = NowSeconds() + options_.checkpoint_interval_s;
-  double next_diagnosis = NowSeconds() + options_.diagnosis_period_s;
-  auto utime = [&] {
-    std::lock_guard<std::mutex> lock(process_mutex_);
-    return static_cast<std::int64_t>(std::llround(pipeline_->last_time() * 1e6));
-  };
-  // A request of the writer's: one still pending takes this one's place (it will write the state
-  // as it is then), counted.
-  auto request_write = [&](std::atomic<bool>& pending, std::atomic<std::uint64_t>& coalesced) {
-    if (pending.exchange(true)) ++coalesced;
-    impl_->writer_bell.Ring();
-  };
   // The solver (gauss_newton of a robot, online_fit.hpp): the objective re-solved on a thread of
   // its own from a snapshot of the statistics, so that the estimator thread only accumulates.
   std::atomic<bool> solver_stop{false};
   std::thread solver;
-  if (robot_ && robot_->fit() != nullptr) {
-    solver = std::thread([&] {
-      while (!solver_stop) {
-        std::optional<OnlineFitSnapshot> snapshot;
-        {
-          std::lock_guard<std::mutex> lock(process_mutex_);
-          if (robot_->SolveDue()) snapshot = robot_->fit()->Snapshot();
-        }
-        if (!snapshot) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(5));
-          continue;
-        }
-        bool adopted = false;
-        try {
-          const OnlineFitSolution solution = SolveOnlineFit(robot_->model(), *snapshot, robot_->fit()->options());
-          std::lock_guard<std::mutex> lock(process_mutex_);
-          adopted = robot_->Adopt(solution);
-          pipeline_->Reconcile();
-        } catch (const std::exception& e) {
-          if (FirstTime("solve")) Log(LogLevel::kError, std::string("the solve failed: ") + e.what());
-        }
-        // A solve that failed or gave an estimate not taken is not retried at once: a second of
-        // rest keeps a failing solve from taking a core.
-        if (!adopted) std::this_thread::sleep_for(std::chrono::seconds(1));
-      }
-    });
-  }
+  if (robot_ && robot_->fit() != nullptr) solver = std::thread([&] { SolveLoop(solver_stop); });
   bool failed = false;
   try {
-    // The estimator thread: pops, processes, hands over. Nothing here publishes, writes or syncs.
-    while (!stop && !receiver_failed) {
-      if (impl_->queue.PopWait(&sample, std::chrono::milliseconds(20))) Process(&sample);
-      const double now = NowSeconds();
-      if (now >= next_publish) {
-        Request(Outgoing::kEstimate, 0);
-        next_publish = now + 1.0 / options_.publish_rate_hz;
-      }
-      if (now >= next_checkpoint) {
-        if (!options_.checkpoint_path.empty()) request_write(impl_->checkpoint_pending, impl_->checkpoints_coalesced);
-        next_checkpoint = now + options_.checkpoint_interval_s;
-      }
-      if (diagnosis_ && now >= next_diagnosis) {
-        Request(Outgoing::kDiagnosis, utime());
-        next_diagnosis = now + options_.diagnosis_period_s;
-      }
-      if (model_request_ != nullptr && model_request_->exchange(false)) {
-        request_write(impl_->model_pending, impl_->models_coalesced);
-      }
-    }
+    EstimateLoop(stop, receiver_failed, &sample);
   } catch (const std::exception& e) {
     Log(LogLevel::kError, std::string("estimation stopped: ") + e.what());
     failed = true;
@@ -807,20 +836,7 @@ int EstimationDaemon::Run(const std::atomic<bool>& stop) {
   }
   while (impl_->queue.PopWait(&sample, std::chrono::milliseconds(0))) Process(&sample);
   stop_sinks();  // the residuals of the last samples published, a pending checkpoint written
-  // Estimation is over: the last publication, checkpoint and model file are written here, in order.
-  if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
-    std::lock_guard<std::mutex> lock(process_mutex_);
-    try {
-      pipeline_->Solve(true);
-    } catch (const std::exception& e) {  // the checkpoint and the model are still written
-      Log(LogLevel::kError, std::string("the final solve failed: ") + e.what());
-    }
-  }
-  Publish();
-  FinalDiagnosis(utime());
-  Checkpoint();
-  WriteModel();
-  Log(LogLevel::kInfo, CountersText());
+  FinishRun(LastUtime());
   if (receiver_failed) {
     Log(LogLevel::kError, impl_->bus ? "the CAN bus failed" : "LCM stopped receiving");
     return 1;

@@ -150,6 +150,19 @@ class EstimationDaemon {
   void FinalDiagnosis(std::int64_t utime);
   void Checkpoint();
   void WriteModel();
+  // Run's threads and its end: the receiver only drains the source (decode, note the time, push);
+  // the publisher and the writer take the estimator thread's hand-overs; the solver re-solves the
+  // online fit from snapshots; FinishRun solves, publishes, checkpoints and writes the model last.
+  void ReceiveLoop(const std::atomic<bool>& stop, std::atomic<bool>& failed);
+  void PublishLoop(const std::atomic<bool>& stop);
+  void WriteLoop(const std::atomic<bool>& stop);
+  void SolveLoop(const std::atomic<bool>& stop);
+  void FinishRun(std::int64_t utime);
+  /// The estimator thread: pops, processes, hands over; publications, checkpoints and model files
+  /// asked for on time. Nothing here publishes, writes or syncs.
+  void EstimateLoop(const std::atomic<bool>& stop, const std::atomic<bool>& receiver_failed, Sample* sample);
+  /// The last sample's time [us], under the estimator's lock.
+  std::int64_t LastUtime() const;
 
   DaemonOptions options_;
   std::unique_ptr<OnlineJointEstimator> robot_;
