@@ -206,11 +206,9 @@ std::string StateText(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   return "max |q| = " + Short(q.cwiseAbs().maxCoeff()) + ", max |qd| = " + Short(qd.cwiseAbs().maxCoeff());
 }
 
-JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& controller,
-                       const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
-                       const JointSimulationOptions& options, const std::vector<std::string>& joint_names,
-                       JointSimulationStats* stats) {
-  const int n = static_cast<int>(q_start.size());
+// The initial state: q and qd of one size >= 1, finite.
+void CheckInitialState(const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start) {
+  const Eigen::Index n = q_start.size();
   if (n < 1 || qd_start.size() != n) {
     throw std::invalid_argument("joint simulation: initial q and qd have sizes " + std::to_string(n) + " and " +
                                 std::to_string(qd_start.size()) + " (need equal and >= 1)");
@@ -218,6 +216,58 @@ JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& co
   if (!q_start.allFinite() || !qd_start.allFinite()) {
     throw std::invalid_argument("joint simulation: initial state is not finite");
   }
+}
+
+// The RK4 steps of the interval starting at t, from the loop's fastest rate rho there, counted in
+// st; SimulationDiverged if more would be needed than the shortest step allows.
+int StepsOfInterval(double rho, const Timing& timing, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                    JointSimulationStats& st) {
+  const double needed = StepsPerSample(timing.sample_period, rho, timing.steps_per_sample);
+  const double most = MaxStepsPerSample(timing.sample_period);
+  if (!(needed <= most)) {
+    throw SimulationDiverged(
+        t, std::isfinite(rho)
+               ? "the loop's fastest mode is " + Short(rho) + " 1/s: RK4 would need " + Short(needed) +
+                     " steps per sample of " + Short(timing.sample_period) + " s, more than the " + Short(most) +
+                     " of the shortest step " + Short(kShortestStep) + " s; " + StateText(q, qd)
+               : "the loop's Jacobian is non-finite: the plant or the command is not finite beside the "
+                 "state reached, " + StateText(q, qd));
+  }
+  const int steps = static_cast<int>(needed);
+  if (rho > st.max_rate) {
+    st.max_rate = rho;
+    st.max_rate_time = t;
+  }
+  st.min_steps_per_sample = st.min_steps_per_sample == 0 ? steps : std::min(st.min_steps_per_sample, steps);
+  st.max_steps_per_sample = std::max(st.max_steps_per_sample, steps);
+  st.total_steps += steps;
+  return steps;
+}
+
+// One classical RK4 step of length h on (q, qd) with tau held, from qdd = forward(q, qd, tau):
+// k1 = (qd, qdd). SimulationDiverged (at t) if the state becomes non-finite.
+template <typename Forward>
+void Rk4Step(const Forward& forward, const Eigen::VectorXd& tau, const Eigen::VectorXd& qdd, double h, double t,
+             Eigen::VectorXd& q, Eigen::VectorXd& qd) {
+  const Eigen::VectorXd v2 = qd + 0.5 * h * qdd;
+  const Eigen::VectorXd a2 = forward(q + 0.5 * h * qd, v2, tau);
+  const Eigen::VectorXd v3 = qd + 0.5 * h * a2;
+  const Eigen::VectorXd a3 = forward(q + 0.5 * h * v2, v3, tau);
+  const Eigen::VectorXd v4 = qd + h * a3;
+  const Eigen::VectorXd a4 = forward(q + h * v3, v4, tau);
+  q += (h / 6.0) * (qd + 2.0 * v2 + 2.0 * v3 + v4);
+  qd += (h / 6.0) * (qdd + 2.0 * a2 + 2.0 * a3 + a4);
+  if (!q.allFinite() || !qd.allFinite()) {
+    throw SimulationDiverged(t, "the state (q, qd) became non-finite in a step of " + Short(h) + " s");
+  }
+}
+
+JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& controller,
+                       const Eigen::VectorXd& q_start, const Eigen::VectorXd& qd_start,
+                       const JointSimulationOptions& options, const std::vector<std::string>& joint_names,
+                       JointSimulationStats* stats) {
+  const int n = static_cast<int>(q_start.size());
+  CheckInitialState(q_start, qd_start);
   const Timing timing = CheckTiming(options, true);
   JointSamples out = Allocate(timing.num_samples, n, joint_names);
   JointSimulationStats local_stats;
@@ -275,26 +325,8 @@ JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& co
       // The steps of this interval from the loop's rate here (the sample's own mass matrix).
       const double rho = StepRate(at_sample.mass, DifferencedPlantSlopes(plant, q, qd, qdd),
                                   DifferencedCommandSlopes(controller, t, q, qd, tau));
-      const double needed = StepsPerSample(timing.sample_period, rho, timing.steps_per_sample);
-      const double most = MaxStepsPerSample(timing.sample_period);
-      if (!(needed <= most)) {
-        throw SimulationDiverged(
-            t, std::isfinite(rho)
-                   ? "the loop's fastest mode is " + Short(rho) + " 1/s: RK4 would need " + Short(needed) +
-                         " steps per sample of " + Short(timing.sample_period) + " s, more than the " + Short(most) +
-                         " of the shortest step " + Short(kShortestStep) + " s; " + StateText(q, qd)
-                   : "the loop's Jacobian is non-finite: the plant or the command is not finite beside the "
-                     "state reached, " + StateText(q, qd));
-      }
-      const int steps = static_cast<int>(needed);
+      const int steps = StepsOfInterval(rho, timing, t, q, qd, st);
       const double h = timing.sample_period / steps;
-      if (rho > st.max_rate) {
-        st.max_rate = rho;
-        st.max_rate_time = t;
-      }
-      st.min_steps_per_sample = st.min_steps_per_sample == 0 ? steps : std::min(st.min_steps_per_sample, steps);
-      st.max_steps_per_sample = std::max(st.max_steps_per_sample, steps);
-      st.total_steps += steps;
 
       for (int s = 0; s < steps; ++s) {
         if (s > 0) {
@@ -302,18 +334,7 @@ JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& co
           tau = command(t, q, qd);
           qdd = forward(q, qd, tau);
         }
-        // Classical RK4 on (q, qd) with tau held: k1 = (qd, qdd).
-        const Eigen::VectorXd v2 = qd + 0.5 * h * qdd;
-        const Eigen::VectorXd a2 = forward(q + 0.5 * h * qd, v2, tau);
-        const Eigen::VectorXd v3 = qd + 0.5 * h * a2;
-        const Eigen::VectorXd a3 = forward(q + 0.5 * h * v2, v3, tau);
-        const Eigen::VectorXd v4 = qd + h * a3;
-        const Eigen::VectorXd a4 = forward(q + h * v3, v4, tau);
-        q += (h / 6.0) * (qd + 2.0 * v2 + 2.0 * v3 + v4);
-        qd += (h / 6.0) * (qdd + 2.0 * a2 + 2.0 * a3 + a4);
-        if (!q.allFinite() || !qd.allFinite()) {
-          throw SimulationDiverged(t, "the state (q, qd) became non-finite in a step of " + Short(h) + " s");
-        }
+        Rk4Step(forward, tau, qdd, h, t, q, qd);
       }
     }
   } catch (const SimulationDiverged&) {
