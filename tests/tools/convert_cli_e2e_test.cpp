@@ -24,6 +24,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/inertial_params.hpp"
 #include "inertial/inertia/log_cholesky.hpp"
+#include "inertial/model/number_text.hpp"
 #include "inertial/study/paper_study.hpp"
 #include "cli_support.hpp"
 #include "test_support.hpp"
@@ -52,11 +53,7 @@ using testing::RunCli;
 using testing::UniqueTempPath;
 
 // Shortest text that reads back to exactly x.
-std::string Num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
+std::string Num(double x) { return FormatNumberExact(x); }
 
 template <typename Derived>
 std::vector<std::string> Args(const Eigen::MatrixBase<Derived>& v) {
