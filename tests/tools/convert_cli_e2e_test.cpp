@@ -359,6 +359,26 @@ TEST_F(ConvertCli, ReferenceBodyBothWaysForAnotherBody) {
   EXPECT_TRUE(Near(JsonVector10(ParseJson(to_pi), "pi"), body.vector(), 1e-12));
 }
 
+// --reference as ten separate arguments is the same reference as one list of them.
+TEST_F(ConvertCli, ReferenceAsSeparateArgumentsOrAsOneList) {
+  Rng rng(110);
+  const InertialParams reference = SolidBox(1.5, 0.3, 0.4, 0.5, RandomPose(rng));
+  const InertialParams body = SolidCylinder(0.6, 0.08, 0.3, RandomPose(rng));
+  const std::vector<std::string> ref = Args(reference.vector());
+  std::string ref_text;
+  for (int i = 0; i < 10; ++i) ref_text += (i ? "," : "") + ref[static_cast<std::size_t>(i)];
+  const CliRun list = RunCli(Concat({"convert", "--from", "pi", "--to", "theta", "--json", "--reference", ref_text, "--"},
+                                    Args(body.vector())));
+  std::vector<std::string> separate_args = {"convert", "--from", "pi", "--to", "theta", "--json", "--reference"};
+  separate_args.insert(separate_args.end(), ref.begin(), ref.end());
+  separate_args.push_back("--");
+  const CliRun separate = RunCli(Concat(separate_args, Args(body.vector())));
+  ASSERT_EQ(list.exit_code, kExitOk) << Describe(list);
+  ASSERT_EQ(separate.exit_code, kExitOk) << Describe(separate);
+  EXPECT_EQ(separate.out, list.out);
+  EXPECT_TRUE(Near(JsonVector10(ParseJson(separate), "theta"), LogCholeskyParameterization(reference).ThetaOf(body), 1e-12));
+}
+
 TEST_F(ConvertCli, InconsistentReferenceIsRefused) {
   const CliRun r = RunCli({"convert", "--from", "pi", "--to", "theta", "--reference=-1 0 0 0 1 1 1 0 0 0", "1", "0", "0", "0", "1", "1", "1", "0", "0", "0"});
   EXPECT_EQ(r.exit_code, kExitInconsistentBody) << Describe(r);
