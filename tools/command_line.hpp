@@ -6,6 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "numeric_options.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <iostream>
@@ -166,7 +168,11 @@ inline std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!AllSubcommands(app).empty() && !FirstWordIsASubcommand(app, args)) return usage;
   try {
-    app.parse(argc, argv);
+    // The options taking several numbers, given as separate arguments, joined (numeric_options.hpp).
+    std::vector<std::string> joined = JoinNumberArguments(args);
+    std::vector<char*> joined_argv = {argv[0]};
+    for (std::string& a : joined) joined_argv.push_back(a.data());
+    app.parse(static_cast<int>(joined_argv.size()), joined_argv.data());
     return std::nullopt;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

@@ -9,11 +9,14 @@
 /// unless it is a path, a name or a list of words.
 #pragma once
 
+#include <cstdlib>
 #include <regex>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+
+#include "inertial/formats/number_parsing.hpp"
 
 namespace inertial::cli {
 
@@ -62,6 +65,57 @@ inline const std::vector<NumericOption>& NumericOptions() {
   return table;
 }
 
+/// How many numbers an option of the table takes: 1 for INT and FLOAT, N for "N FLOATS", 0 for
+/// "FLOATS" (one or more); -1 for an option not in the table.
+inline int NumberCount(const std::string& option) {
+  for (const NumericOption& n : NumericOptions()) {
+    if (option != n.name) continue;
+    const std::string type = n.type;
+    if (type == "FLOATS") return 0;
+    if (type.size() > 7 && type.compare(type.size() - 7, 7, " FLOATS") == 0) return std::atoi(type.c_str());
+    return 1;
+  }
+  return -1;
+}
+
+/// How every option taking several numbers is given, said once in --help.
+inline constexpr const char* kNumberListHelp =
+    "the numbers as separate arguments or as one quoted list separated by spaces or commas";
+
+/// The options taking several numbers accept them as separate arguments (`--pi 1 0 0 0 1 1 1 0 0
+/// 0`, `--gravity 0 0 -9.81`) as well as one list (`--pi "1,0,0,..."`): the separate arguments are
+/// joined here into the one text the option parses (ParseNumberList: spaces and/or commas). After
+/// such an option, the arguments that each read as one number are taken, up to the option's count
+/// (all of them for FLOATS); a first argument that is already a list (or --option=TEXT) is left
+/// alone, and nothing after "--" is touched.
+inline std::vector<std::string> JoinNumberArguments(const std::vector<std::string>& args) {
+  auto is_number = [](const std::string& text) {
+    try {
+      ParseDouble(text, "", true);
+      return true;
+    } catch (const InvalidNumber&) {
+      return false;
+    }
+  };
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    out.push_back(args[i]);
+    if (args[i] == "--") {
+      out.insert(out.end(), args.begin() + static_cast<std::ptrdiff_t>(i) + 1, args.end());
+      break;
+    }
+    const int count = NumberCount(args[i]);
+    if (count != 0 && count < 2) continue;
+    std::string joined;
+    std::size_t taken = 0;
+    while (i + 1 < args.size() && (count == 0 || taken < static_cast<std::size_t>(count)) && is_number(args[i + 1])) {
+      joined += (taken++ ? " " : "") + args[++i];
+    }
+    if (taken > 0) out.push_back(joined);
+  }
+  return out;
+}
+
 /// Shows every numeric option of `app` and its subcommands as the table says: type and unit as
 /// CLI11's type name, the default after "=", and a "(default ...)" clause in the description
 /// removed (the default is shown once, in one place).
@@ -79,6 +133,7 @@ inline void DescribeNumericOptions(CLI::App& app) {
           for (std::size_t at = d.find(bracket); at != std::string::npos; at = d.find(bracket)) d.erase(at, bracket.size());
         }
       }
+      if (NumberCount(n.name) != 1) d += "; " + std::string(kNumberListHelp);
       o->description(d);
     }
   }

@@ -11,6 +11,7 @@
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/inertia/assert.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 
@@ -18,12 +19,6 @@ namespace {
 
 // mci order (parameter_layout.hpp): mass, COM, inertia about the COM.
 constexpr const char* kBodyQuantityNames[10] = {"m", "cx", "cy", "cz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
-
-std::string Number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
-  return buffer;
-}
 
 // "a", "a and b", "a, b and c".
 std::string JoinEnglish(const std::vector<std::string>& items) {
@@ -388,10 +383,10 @@ std::string UnexcitedText(const ExcitationReport& report, int max_items) {
   };
   // A window shorter than nominal holds every sample since start (see CopyInformation): one scope.
   if (report.window_seconds + 1e-9 < report.nominal_window_seconds) {
-    const std::string scope = "in the " + Number(report.window_seconds) + " s since start";
+    const std::string scope = "in the " + FormatNumber(report.window_seconds, 3) + " s since start";
     return window_count == 0 ? "every quantity is excited " + scope : sentence(window_items, window_count) + " " + scope;
   }
-  const std::string window = "in the last " + Number(report.nominal_window_seconds) + " s";
+  const std::string window = "in the last " + FormatNumber(report.nominal_window_seconds, 3) + " s";
   if (window_count == 0 && start_count == 0) return "every quantity is excited " + window + " and since start";
   if (window_count == 0) {  // the window's samples are among since start's, so only by rounding
     return "every quantity is excited " + window + "; since start " + sentence(start_items, start_count);

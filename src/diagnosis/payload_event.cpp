@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 
@@ -14,9 +15,7 @@ namespace {
 
 void Require(bool ok, const char* what, double value) {
   if (!ok) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "PayloadEventDetector: %s (got %g)", what, value);
-    throw std::invalid_argument(buf);
+    throw std::invalid_argument(std::string("PayloadEventDetector: ") + what + " (got " + FormatNumber(value, 6) + ")");
   }
 }
 

@@ -17,6 +17,7 @@
 #include "csv_text.hpp"
 #include "inertial/formats/file_error.hpp"
 #include "inertial/formats/number_parsing.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -28,12 +29,6 @@ using csv::SplitCells;
 using csv::Trim;
 
 constexpr int kListedBadLines = 5;  // line numbers named in the skipped-rows notice
-
-std::string ShortestText(double value) {
-  char buffer[32];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, r.ptr);
-}
 
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
@@ -47,12 +42,6 @@ constexpr double kSmallestStep = 1e-5;      // s: 100 kHz
 constexpr double kLargestStep = 1.0;        // s: 1 Hz
 constexpr double kPlausibleSmallest = 1e-4;  // s: 10 kHz
 constexpr double kPlausibleLargest = 1e-1;   // s: 10 Hz
-
-std::string ShortNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g", value);
-  return text;
-}
 
 /// Median of the steps of t (at least 2 stamps).
 double MedianStep(const Eigen::Ref<const Eigen::VectorXd>& t) {
@@ -73,7 +62,7 @@ std::string TimeScaleSuggestion(double median_step) {
     const double step = units[u].first * median_step;
     if (step >= kPlausibleSmallest && step <= kPlausibleLargest) {
       return std::string("if they are ") + units[u].second + ", give --time-scale " + texts[u] + " (a median step of " +
-             ShortNumber(step) + " s)";
+             FormatNumber(step, 4) + " s)";
     }
   }
   return "give --time-scale with the factor that converts them to seconds (1e-3 for ms, 1e-6 for us, 1e-9 for ns)";
@@ -215,7 +204,7 @@ class Parser {
                                 (extra.size() > 1 ? "s: " : ": ") + Join(extra));
     }
     const SavitzkyGolayOptions& sg = options_.differentiation;
-    const std::string method = " by Savitzky-Golay (order " + std::to_string(sg.order) + ", window " + ShortestText(sg.window) + " s)";
+    const std::string method = " by Savitzky-Golay (order " + std::to_string(sg.order) + ", window " + FormatNumberExact(sg.window) + " s)";
     if (derive_qd_) {
       report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) + "; all velocities are derived from q" + method +
                                 (ignored_qd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qd)));
@@ -257,9 +246,9 @@ class Parser {
     if (t == t_previous) {
       for (std::size_t s = 0; s < row.size(); ++s) {
         if (row[s] != previous[s]) {
-          Bad(number, where + "same time " + ShortestText(t) + " as line " + std::to_string(previous_line_) +
-                          " but different values (" + Column(used_[s].column) + ": " + ShortestText(row[s]) + " vs " +
-                          ShortestText(previous[s]) + ")");
+          Bad(number, where + "same time " + FormatNumberExact(t) + " as line " + std::to_string(previous_line_) +
+                          " but different values (" + Column(used_[s].column) + ": " + FormatNumberExact(row[s]) + " vs " +
+                          FormatNumberExact(previous[s]) + ")");
           return false;
         }
       }
@@ -267,8 +256,8 @@ class Parser {
       return false;
     }
     if (t < t_previous) {
-      Bad(number, where + Column(used_[static_cast<std::size_t>(time_slot_)].column) + ": time " + ShortestText(t) +
-                      " is not after the previous row's " + ShortestText(t_previous) + " (line " + std::to_string(previous_line_) +
+      Bad(number, where + Column(used_[static_cast<std::size_t>(time_slot_)].column) + ": time " + FormatNumberExact(t) +
+                      " is not after the previous row's " + FormatNumberExact(t_previous) + " (line " + std::to_string(previous_line_) +
                       "); t must be strictly increasing");
       return false;
     }
@@ -370,10 +359,8 @@ class CsvFileWriter {
     buffer_ += '\n';
   }
   void Cell(double value, bool first) {
-    char text[40];
-    const int n = std::snprintf(text, sizeof(text), "%.17g", value);
     if (!first) buffer_ += ',';
-    buffer_.append(text, static_cast<std::size_t>(n));
+    buffer_ += FormatNumber(value, kRoundTripDigits);
   }
   void EndRow() {
     buffer_ += '\n';
@@ -403,15 +390,15 @@ class CsvFileWriter {
 void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std::string& where) {
   if (!(time_scale >= 0.0) || !std::isfinite(time_scale)) {
     throw std::invalid_argument("time scale (--time-scale) must be a positive finite number, or 0 for seconds; got " +
-                                ShortestText(time_scale));
+                                FormatNumberExact(time_scale));
   }
   const bool given = time_scale > 0.0;
   if (given) {
     t *= time_scale;
     for (Eigen::Index i = 0; i < t.size(); ++i) {
       if (!std::isfinite(t[i]) || (i > 0 && !(t[i] > t[i - 1]))) {
-        throw CsvError(where + ": stamp " + std::to_string(i + 1) + " times --time-scale " + ShortestText(time_scale) + " is " +
-                       ShortestText(t[i]) + (std::isfinite(t[i]) ? ", not after the previous one" : ", not finite"));
+        throw CsvError(where + ": stamp " + std::to_string(i + 1) + " times --time-scale " + FormatNumberExact(time_scale) + " is " +
+                       FormatNumberExact(t[i]) + (std::isfinite(t[i]) ? ", not after the previous one" : ", not finite"));
       }
     }
   }
@@ -419,7 +406,7 @@ void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std
   const double step = MedianStep(t);
   if (given) {
     if (step < kSmallestStep || step > kLargestStep) {
-      throw CsvError(where + ": median time step " + ShortNumber(step) + " s after --time-scale " + ShortestText(time_scale) +
+      throw CsvError(where + ": median time step " + FormatNumber(step, 4) + " s after --time-scale " + FormatNumberExact(time_scale) +
                      ", outside the sampling periods of real logs (1e-05 to 1 s); check --time-scale (1e-3 for ms, "
                      "1e-6 for us, 1e-9 for ns)");
     }
@@ -427,7 +414,7 @@ void ScaleTimeStamps(Eigen::Ref<Eigen::VectorXd> t, double time_scale, const std
   }
   const bool integers = (t.array() == t.array().floor()).all();
   if (step >= kSmallestStep && step <= kLargestStep && !integers) return;
-  std::string seen = "median step " + ShortNumber(step);
+  std::string seen = "median step " + FormatNumber(step, 4);
   if (step < kSmallestStep) seen += " (as seconds, faster than 100 kHz)";
   if (step > kLargestStep) seen += " (as seconds, slower than 1 Hz)";
   if (integers) seen += ", every stamp an integer";
@@ -444,7 +431,7 @@ JointSamples ParseJointCsv(std::istream& in, const std::string& source_name, con
   CheckJointNames(joint_names);
   if (!(options.time_scale >= 0.0) || !std::isfinite(options.time_scale)) {
     throw std::invalid_argument("joint CSV: the time scale (--time-scale) must be a positive finite number, or 0 for "
-                                "seconds; got " + ShortestText(options.time_scale));
+                                "seconds; got " + FormatNumberExact(options.time_scale));
   }
   const std::string text = ReadAll(in, source_name);
   JointCsvReport local;

@@ -12,6 +12,7 @@
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/model/rotation_from_rpy.hpp"
 #include "inertial/formats/urdf_model.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial::detail {
 namespace {
@@ -61,12 +62,6 @@ void AddNote(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* element, const st
 
 }  // namespace
 
-std::string XmlNumber(double value) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
-
 std::string CommentSafe(std::string text) {
   for (std::size_t k = text.find("--"); k != std::string::npos; k = text.find("--", k)) text.replace(k, 2, "- -");
   if (!text.empty() && text.back() == '-') text += ' ';
@@ -78,19 +73,19 @@ void FillInertialElement(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* inert
   const Vector3 c = m != 0.0 ? pi.com() : Vector3::Zero();
   const Matrix3 I = m != 0.0 ? pi.rotational_inertia_about_com() : pi.rotational_inertia_about_origin();
   tinyxml2::XMLElement* origin = doc.NewElement("origin");
-  origin->SetAttribute("xyz", (XmlNumber(c.x()) + " " + XmlNumber(c.y()) + " " + XmlNumber(c.z())).c_str());
+  origin->SetAttribute("xyz", (FormatNumber(c.x(), kRoundTripDigits) + " " + FormatNumber(c.y(), kRoundTripDigits) + " " + FormatNumber(c.z(), kRoundTripDigits)).c_str());
   origin->SetAttribute("rpy", "0 0 0");
   inertial->InsertEndChild(origin);
   tinyxml2::XMLElement* mass = doc.NewElement("mass");
-  mass->SetAttribute("value", XmlNumber(m).c_str());
+  mass->SetAttribute("value", FormatNumber(m, kRoundTripDigits).c_str());
   inertial->InsertEndChild(mass);
   tinyxml2::XMLElement* inertia = doc.NewElement("inertia");
-  inertia->SetAttribute("ixx", XmlNumber(I(0, 0)).c_str());
-  inertia->SetAttribute("ixy", XmlNumber(I(0, 1)).c_str());
-  inertia->SetAttribute("ixz", XmlNumber(I(0, 2)).c_str());
-  inertia->SetAttribute("iyy", XmlNumber(I(1, 1)).c_str());
-  inertia->SetAttribute("iyz", XmlNumber(I(1, 2)).c_str());
-  inertia->SetAttribute("izz", XmlNumber(I(2, 2)).c_str());
+  inertia->SetAttribute("ixx", FormatNumber(I(0, 0), kRoundTripDigits).c_str());
+  inertia->SetAttribute("ixy", FormatNumber(I(0, 1), kRoundTripDigits).c_str());
+  inertia->SetAttribute("ixz", FormatNumber(I(0, 2), kRoundTripDigits).c_str());
+  inertia->SetAttribute("iyy", FormatNumber(I(1, 1), kRoundTripDigits).c_str());
+  inertia->SetAttribute("iyz", FormatNumber(I(1, 2), kRoundTripDigits).c_str());
+  inertia->SetAttribute("izz", FormatNumber(I(2, 2), kRoundTripDigits).c_str());
   inertial->InsertEndChild(inertia);
 }
 
@@ -138,8 +133,8 @@ JointDynamicsMap ReadJointDynamics(const tinyxml2::XMLElement& robot, const std:
     const double zero = 0.0;
     const double damping = Attribute(*d, "damping", where, &zero), friction = Attribute(*d, "friction", where, &zero);
     if (damping < 0 || friction < 0) {
-      throw UrdfError(where + ": <dynamics> damping and friction must be >= 0 (got " + XmlNumber(damping) + ", " +
-                      XmlNumber(friction) + ")");
+      throw UrdfError(where + ": <dynamics> damping and friction must be >= 0 (got " + FormatNumber(damping, kRoundTripDigits) + ", " +
+                      FormatNumber(friction, kRoundTripDigits) + ")");
     }
     dynamics[name] = {damping, friction};
   }
@@ -231,7 +226,7 @@ void ReadEffectValues(const tinyxml2::XMLElement& element, const std::string& wh
   const tinyxml2::XMLElement* e = &element;
   auto non_negative = [&](const char* attribute) {
     const double v = Attribute(*e, attribute, where);
-    if (v < 0) throw UrdfError(where + ": attribute '" + attribute + "' must be >= 0, got " + XmlNumber(v));
+    if (v < 0) throw UrdfError(where + ": attribute '" + attribute + "' must be >= 0, got " + FormatNumber(v, kRoundTripDigits));
     return v;
   };
   const auto dyn = dynamics.find(m.spec.target);
@@ -359,8 +354,8 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
       joint->InsertEndChild(element);
     }
     const std::pair<double, double> v = it == dynamics.end() ? std::pair<double, double>(0.0, 0.0) : it->second;
-    element->SetAttribute("damping", XmlNumber(v.first).c_str());
-    element->SetAttribute("friction", XmlNumber(v.second).c_str());
+    element->SetAttribute("damping", FormatNumber(v.first, kRoundTripDigits).c_str());
+    element->SetAttribute("friction", FormatNumber(v.second, kRoundTripDigits).c_str());
   }
   while (tinyxml2::XMLElement* old = robot->FirstChildElement(kEffectsElement)) robot->DeleteChild(old);
   if (effects.empty()) return;
@@ -374,26 +369,26 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
     e->SetAttribute(m.spec.kind == EffectKind::kPayload ? "link" : "joint", m.spec.target.c_str());
     switch (m.spec.kind) {
       case EffectKind::kViscous: break;
-      case EffectKind::kCoulomb: e->SetAttribute("velocity_scale", XmlNumber(m.spec.velocity_scale).c_str()); break;
+      case EffectKind::kCoulomb: e->SetAttribute("velocity_scale", FormatNumber(m.spec.velocity_scale, kRoundTripDigits).c_str()); break;
       case EffectKind::kAsymmetric:
-        e->SetAttribute("velocity_scale", XmlNumber(m.spec.velocity_scale).c_str());
-        e->SetAttribute("positive", XmlNumber(m.values.at(0)).c_str());
-        e->SetAttribute("negative", XmlNumber(m.values.at(1)).c_str());
+        e->SetAttribute("velocity_scale", FormatNumber(m.spec.velocity_scale, kRoundTripDigits).c_str());
+        e->SetAttribute("positive", FormatNumber(m.values.at(0), kRoundTripDigits).c_str());
+        e->SetAttribute("negative", FormatNumber(m.values.at(1), kRoundTripDigits).c_str());
         break;
       case EffectKind::kSigmoid:
-        e->SetAttribute("amplitude", XmlNumber(m.values.at(0)).c_str());
-        e->SetAttribute("steepness", XmlNumber(m.spec.steepness).c_str());
-        e->SetAttribute("shift", XmlNumber(m.spec.shift).c_str());
+        e->SetAttribute("amplitude", FormatNumber(m.values.at(0), kRoundTripDigits).c_str());
+        e->SetAttribute("steepness", FormatNumber(m.spec.steepness, kRoundTripDigits).c_str());
+        e->SetAttribute("shift", FormatNumber(m.spec.shift, kRoundTripDigits).c_str());
         break;
-      case EffectKind::kOffset: e->SetAttribute("torque", XmlNumber(m.values.at(0)).c_str()); break;
-      case EffectKind::kArmature: e->SetAttribute("inertia", XmlNumber(m.values.at(0)).c_str()); break;
+      case EffectKind::kOffset: e->SetAttribute("torque", FormatNumber(m.values.at(0), kRoundTripDigits).c_str()); break;
+      case EffectKind::kArmature: e->SetAttribute("inertia", FormatNumber(m.values.at(0), kRoundTripDigits).c_str()); break;
       case EffectKind::kSpring:
-        e->SetAttribute("stiffness", XmlNumber(m.values.at(0)).c_str());
-        e->SetAttribute("rest_position", XmlNumber(m.values.at(1)).c_str());
+        e->SetAttribute("stiffness", FormatNumber(m.values.at(0), kRoundTripDigits).c_str());
+        e->SetAttribute("rest_position", FormatNumber(m.values.at(1), kRoundTripDigits).c_str());
         break;
       case EffectKind::kRotor:
       case EffectKind::kPayload: {
-        if (m.spec.kind == EffectKind::kRotor) e->SetAttribute("gear_ratio", XmlNumber(m.spec.gear_ratio).c_str());
+        if (m.spec.kind == EffectKind::kRotor) e->SetAttribute("gear_ratio", FormatNumber(m.spec.gear_ratio, kRoundTripDigits).c_str());
         if (!m.spec.inertia || !m.spec.inertia->AllFinite()) {
           throw UrdfError(path + ": " + Name(m.spec.kind, m.spec.target) + ": no finite inertia to write");
         }

@@ -41,8 +41,6 @@ void FillInertialElement(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* inert
 /// fully physically consistent.
 InertialParams ReadInertialElement(const tinyxml2::XMLElement& inertial, const std::string& where);
 
-/// %.17g: reading it back gives the same double.
-std::string XmlNumber(double value);
 /// XML comments may not contain "--".
 std::string CommentSafe(std::string text);
 

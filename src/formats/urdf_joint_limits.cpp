@@ -5,6 +5,7 @@
 
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/formats/urdf_model.hpp"
+#include "inertial/model/number_text.hpp"
 #include "urdf_effects.hpp"
 
 namespace inertial::detail {
@@ -41,14 +42,14 @@ std::vector<JointLimits> ReadJointLimits(const tinyxml2::XMLElement& robot, cons
       l.lower = LimitAttribute(*limit, "lower", where, l.lower);
       l.upper = LimitAttribute(*limit, "upper", where, l.upper);
       if (l.lower > l.upper) {
-        throw UrdfError(where + ": <limit> lower " + XmlNumber(l.lower) + " is above upper " + XmlNumber(l.upper));
+        throw UrdfError(where + ": <limit> lower " + FormatNumber(l.lower, kRoundTripDigits) + " is above upper " + FormatNumber(l.upper, kRoundTripDigits));
       }
     }
     l.velocity = LimitAttribute(*limit, "velocity", where, 0.0);
     l.effort = LimitAttribute(*limit, "effort", where, 0.0);
     if (l.velocity < 0 || l.effort < 0) {
-      throw UrdfError(where + ": <limit> velocity and effort must be >= 0 (got " + XmlNumber(l.velocity) + ", " +
-                      XmlNumber(l.effort) + ")");
+      throw UrdfError(where + ": <limit> velocity and effort must be >= 0 (got " + FormatNumber(l.velocity, kRoundTripDigits) + ", " +
+                      FormatNumber(l.effort, kRoundTripDigits) + ")");
     }
     // 0 (or absent) states no limit: exporters write 0 for "unknown", and a moving joint that can
     // neither move nor push is not what the file means.

@@ -16,6 +16,7 @@
 #include "inertial/formats/input_file.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/formats/number_parsing.hpp"
+#include "inertial/model/number_text.hpp"
 #include "urdf_effects.hpp"
 #include "urdf_joint_limits.hpp"
 #include "xml_error.hpp"
@@ -104,13 +105,6 @@ const std::map<std::string, std::map<std::string, int>>& NumericAttributes() {
   return table;
 }
 
-// The shortest text that reads back as x ("1e+300", "-1000.5").
-std::string Shortest(double x) {
-  char text[32];
-  const std::to_chars_result r = std::to_chars(text, text + sizeof text, x);
-  return std::string(text, r.ptr);
-}
-
 // The unit of the attributes bounded by kMaxUrdfLength: positions of frames (origins of joints, of
 // COMs, of visuals and collisions) and sizes of shapes [m], and joint limits [m or rad]; nullptr
 // for the others.
@@ -155,8 +149,8 @@ void ValidateForUrdfdom(const tinyxml2::XMLElement& e, const std::string& source
     if (const char* unit = BoundedUnit(e.Name(), a->Name())) {
       for (const double x : numbers) {
         if (std::abs(x) > kMaxUrdfLength) {
-          throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + Shortest(x) + " " + unit + ", beyond the " +
-                          Shortest(kMaxUrdfLength) + " " + unit + " of any robot (a length in millimetres?)");
+          throw UrdfError(where + ": attribute '" + a->Name() + "' holds " + FormatNumberExact(x) + " " + unit + ", beyond the " +
+                          FormatNumberExact(kMaxUrdfLength) + " " + unit + " of any robot (a length in millimetres?)");
         }
       }
     }

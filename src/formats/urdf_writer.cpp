@@ -1,5 +1,6 @@
 #include "inertial/formats/urdf_writer.hpp"
 #include "inertial/formats/file_error.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <sys/stat.h>
 #include <tinyxml2.h>
@@ -22,8 +23,6 @@ namespace inertial {
 namespace {
 
 constexpr const char* kNotePrefix = " Written by inertial";
-
-std::string Number(double value) { return detail::XmlNumber(value); }
 
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
@@ -148,8 +147,8 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
       element = doc.NewElement("dynamics");
       joint->InsertEndChild(element);
     }
-    element->SetAttribute("damping", Number(d.damping).c_str());
-    element->SetAttribute("friction", Number(d.friction).c_str());
+    element->SetAttribute("damping", FormatNumber(d.damping, kRoundTripDigits).c_str());
+    element->SetAttribute("friction", FormatNumber(d.friction, kRoundTripDigits).c_str());
   }
 
   if (changes.effects) detail::WriteModelEffects(doc, robot, *changes.effects, changes.notes, in_path);

@@ -1,4 +1,5 @@
 #include "inertial/model/joint_effect.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -73,20 +74,15 @@ const std::vector<EffectKind>& AllEffectKinds() {
 bool IsJointEffect(EffectKind kind) { return kind != EffectKind::kPayload && kind != EffectKind::kRotor; }
 
 std::string EffectItem(const EffectSpec& spec) {
-  auto number = [](double x) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.4g", x);
-    return std::string(buffer);
-  };
   std::string item = std::string(ToString(spec.kind)) + (spec.target.empty() ? "" : "@" + spec.target);
   if (spec.kind == EffectKind::kCoulomb || spec.kind == EffectKind::kAsymmetric) {
-    item += ":scale=" + number(spec.velocity_scale);
+    item += ":scale=" + FormatNumber(spec.velocity_scale, 4);
   }
-  if (spec.kind == EffectKind::kSigmoid) item += ":steepness=" + number(spec.steepness) + ":shift=" + number(spec.shift);
-  if (spec.kind == EffectKind::kRotor) item += ":gear=" + number(spec.gear_ratio);
-  if (spec.mass > 0) item += ":mass=" + number(spec.mass);
-  if (spec.radius > 0) item += ":radius=" + number(spec.radius);
-  if (spec.length > 0) item += ":length=" + number(spec.length);
+  if (spec.kind == EffectKind::kSigmoid) item += ":steepness=" + FormatNumber(spec.steepness, 4) + ":shift=" + FormatNumber(spec.shift, 4);
+  if (spec.kind == EffectKind::kRotor) item += ":gear=" + FormatNumber(spec.gear_ratio, 4);
+  if (spec.mass > 0) item += ":mass=" + FormatNumber(spec.mass, 4);
+  if (spec.radius > 0) item += ":radius=" + FormatNumber(spec.radius, 4);
+  if (spec.length > 0) item += ":length=" + FormatNumber(spec.length, 4);
   return item;
 }
 

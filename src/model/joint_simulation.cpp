@@ -10,21 +10,15 @@
 #include <string>
 
 #include "inertial/model/closed_loop_rate.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
-std::string Num(double x) { return std::to_string(x); }
-
-// Six significant digits, no trailing zeros: times and rates in messages.
-std::string Short(double x) {
-  std::ostringstream out;
-  out.precision(6);
-  out << x;
-  return out.str();
-}
+// Times, rates and rejected values in messages: six significant digits (number_text.hpp).
+constexpr int kMessageDigits = 6;
 
 // The sample grid and the internal step derived from the options.
 struct Timing {
@@ -37,11 +31,11 @@ struct Timing {
 Timing CheckTiming(const JointSimulationOptions& options, bool integrating) {
   if (!std::isfinite(options.start_time)) throw std::invalid_argument("joint simulation: start_time is not finite");
   if (!std::isfinite(options.duration) || options.duration < 0.0) {
-    throw std::invalid_argument("joint simulation: duration must be finite and >= 0, got " + Num(options.duration));
+    throw std::invalid_argument("joint simulation: duration must be finite and >= 0, got " + FormatNumber(options.duration, kMessageDigits));
   }
   if (!std::isfinite(options.sample_rate_hz) || options.sample_rate_hz <= 0.0) {
     throw std::invalid_argument("joint simulation: sample_rate_hz must be positive and finite, got " +
-                                Num(options.sample_rate_hz));
+                                FormatNumber(options.sample_rate_hz, kMessageDigits));
   }
   const double intervals = std::floor(options.duration * options.sample_rate_hz + 1e-9);
   if (intervals + 1.0 > static_cast<double>(std::numeric_limits<int>::max())) {
@@ -53,7 +47,7 @@ Timing CheckTiming(const JointSimulationOptions& options, bool integrating) {
   if (integrating) {
     if (!std::isfinite(options.internal_step) || options.internal_step <= 0.0) {
       throw std::invalid_argument("joint simulation: internal_step must be positive and finite, got " +
-                                  Num(options.internal_step));
+                                  FormatNumber(options.internal_step, kMessageDigits));
     }
     const double steps = std::ceil(timing.sample_period / options.internal_step - 1e-9);
     if (steps > 1e9) throw std::invalid_argument("joint simulation: internal_step is too small for the sample rate");
@@ -80,12 +74,12 @@ JointSamples Allocate(int num_samples, int n, const std::vector<std::string>& jo
 
 void CheckPoint(const JointTrajectoryPoint& p, int n, double t) {
   if (p.q.size() != n || p.qd.size() != n || p.qdd.size() != n) {
-    throw std::invalid_argument("reference at t = " + Num(t) + " s has sizes " + std::to_string(p.q.size()) + ", " +
+    throw std::invalid_argument("reference at t = " + FormatNumber(t, kMessageDigits) + " s has sizes " + std::to_string(p.q.size()) + ", " +
                                 std::to_string(p.qd.size()) + ", " + std::to_string(p.qdd.size()) + " for " +
                                 std::to_string(n) + " joints");
   }
   if (!p.q.allFinite() || !p.qd.allFinite() || !p.qdd.allFinite()) {
-    throw std::invalid_argument("reference at t = " + Num(t) + " s is not finite");
+    throw std::invalid_argument("reference at t = " + FormatNumber(t, kMessageDigits) + " s is not finite");
   }
 }
 
@@ -126,7 +120,7 @@ class NormalSource {
 void AddNoise(double sigma, const char* name, NormalSource& normal, Eigen::MatrixXd* m) {
   if (!std::isfinite(sigma) || sigma < 0.0) {
     throw std::invalid_argument(std::string("noise: standard deviation of ") + name + " must be finite and >= 0, got " +
-                                Num(sigma));
+                                FormatNumber(sigma, kMessageDigits));
   }
   for (Eigen::Index k = 0; k < m->size(); ++k) m->data()[k] += sigma * normal();
 }
@@ -195,7 +189,7 @@ Eigen::VectorXd ForwardDynamics(const JointDynamicsFn& id, const Eigen::VectorXd
 }
 
 SimulationDiverged::SimulationDiverged(double time, const std::string& reason)
-    : std::invalid_argument("the simulation diverged at t = " + Short(time) + " s (" + reason + ")"),
+    : std::invalid_argument("the simulation diverged at t = " + FormatNumber(time, kMessageDigits) + " s (" + reason + ")"),
       time_(time),
       reason_(reason) {}
 
@@ -203,7 +197,7 @@ namespace {
 
 // Where the state is: the size of q and qd, for the reason of a divergence.
 std::string StateText(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-  return "max |q| = " + Short(q.cwiseAbs().maxCoeff()) + ", max |qd| = " + Short(qd.cwiseAbs().maxCoeff());
+  return "max |q| = " + FormatNumber(q.cwiseAbs().maxCoeff(), kMessageDigits) + ", max |qd| = " + FormatNumber(qd.cwiseAbs().maxCoeff(), kMessageDigits);
 }
 
 // The initial state: q and qd of one size >= 1, finite.
@@ -227,9 +221,9 @@ int StepsOfInterval(double rho, const Timing& timing, double t, const Eigen::Vec
   if (!(needed <= most)) {
     throw SimulationDiverged(
         t, std::isfinite(rho)
-               ? "the loop's fastest mode is " + Short(rho) + " 1/s: RK4 would need " + Short(needed) +
-                     " steps per sample of " + Short(timing.sample_period) + " s, more than the " + Short(most) +
-                     " of the shortest step " + Short(kShortestStep) + " s; " + StateText(q, qd)
+               ? "the loop's fastest mode is " + FormatNumber(rho, kMessageDigits) + " 1/s: RK4 would need " + FormatNumber(needed, kMessageDigits) +
+                     " steps per sample of " + FormatNumber(timing.sample_period, kMessageDigits) + " s, more than the " + FormatNumber(most, kMessageDigits) +
+                     " of the shortest step " + FormatNumber(kShortestStep, kMessageDigits) + " s; " + StateText(q, qd)
                : "the loop's Jacobian is non-finite: the plant or the command is not finite beside the "
                  "state reached, " + StateText(q, qd));
   }
@@ -258,7 +252,7 @@ void Rk4Step(const Forward& forward, const Eigen::VectorXd& tau, const Eigen::Ve
   q += (h / 6.0) * (qd + 2.0 * v2 + 2.0 * v3 + v4);
   qd += (h / 6.0) * (qdd + 2.0 * a2 + 2.0 * a3 + a4);
   if (!q.allFinite() || !qd.allFinite()) {
-    throw SimulationDiverged(t, "the state (q, qd) became non-finite in a step of " + Short(h) + " s");
+    throw SimulationDiverged(t, "the state (q, qd) became non-finite in a step of " + FormatNumber(h, kMessageDigits) + " s");
   }
 }
 
@@ -340,7 +334,7 @@ JointSamples Integrate(const JointDynamicsFn& plant, const JointControllerFn& co
   } catch (const SimulationDiverged&) {
     throw;
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("joint simulation at t = " + Num(t) + " s: " + e.what());
+    throw std::invalid_argument("joint simulation at t = " + FormatNumber(t, kMessageDigits) + " s: " + e.what());
   }
   return out;
 }

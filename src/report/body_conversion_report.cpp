@@ -1,7 +1,8 @@
 #include "inertial/report/body_conversion_report.hpp"
 
-#include <iomanip>
 #include <sstream>
+
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 
@@ -9,11 +10,11 @@ std::string BodyConversionText(const BodyConversion& conversion) {
   const Eigen::MatrixXd& M = conversion.value;
   const std::string indent = "\n" + std::string(conversion.to.size() + 2, ' ');
   std::ostringstream os;
-  os << std::setprecision(17) << conversion.to << ":";
+  os << conversion.to << ":";
   for (Eigen::Index i = 0; i < M.rows(); ++i) {
     for (Eigen::Index j = 0; j < M.cols(); ++j) {
       const bool new_row = M.cols() > 1 && i > 0 && j == 0;
-      os << (new_row ? indent : std::string(" ")) << M(i, j) + 0.0;  // + 0.0 turns -0 into 0
+      os << (new_row ? indent : std::string(" ")) << FormatNumber(M(i, j) + 0.0, kRoundTripDigits);  // + 0.0 turns -0 into 0
     }
   }
   os << "\n";

@@ -10,6 +10,7 @@
 
 #include "inertial/formats/file_error.hpp"
 #include "inertial/report/gnuplot.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace fs = std::filesystem;
@@ -31,12 +32,11 @@ std::string ReadBinary(const fs::path& path) {
   return s.str();
 }
 
-std::string Number(double x, const char* format = "%.4g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, x);
-  const std::string s = buf;
-  return s == "-0.0" || s == "-0" ? s.substr(1) : s;
-}
+// A zero is shown without its sign ("-0", "-0.0" in a table or a plot are noise).
+std::string WithoutSignOfZero(const std::string& s) { return s == "-0.0" || s == "-0" ? s.substr(1) : s; }
+// Significant digits (number_text.hpp).
+std::string Number(double x, int significant_digits = 4) { return WithoutSignOfZero(FormatNumber(x, significant_digits)); }
+std::string Fixed(double x, int decimals) { return WithoutSignOfZero(FormatFixed(x, decimals)); }
 
 }  // namespace
 
@@ -100,10 +100,10 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
     out << "\n";
     const int stride = std::max(1, (N + kMaxPlottedSamples - 1) / kMaxPlottedSamples);
     for (int i = 0; i < N; i += stride) {
-      out << Number(d.t[i], "%.9g");
+      out << Number(d.t[i], 9);
       for (int k = 0; k < n; ++k) {
-        out << " " << Number(d.measured(i, k), "%.7g") << " " << Number(d.predicted(i, k), "%.7g") << " "
-            << Number(d.predicted(i, k) - d.measured(i, k), "%.7g") << " " << Number(d.velocity(i, k), "%.7g");
+        out << " " << Number(d.measured(i, k), 7) << " " << Number(d.predicted(i, k), 7) << " "
+            << Number(d.predicted(i, k) - d.measured(i, k), 7) << " " << Number(d.velocity(i, k), 7);
       }
       out << "\n";
     }
@@ -114,7 +114,7 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
     errors << "\n";
     for (int k = 0; k < n; ++k) {
       errors << "\"" << d.channels[k] << "\"";
-      for (const Eigen::VectorXd& e : d.error_rms) errors << " " << Number(e[k], "%.7g");
+      for (const Eigen::VectorXd& e : d.error_rms) errors << " " << Number(e[k], 7);
       errors << "\n";
     }
     WriteFile(dir / "errors.dat", errors.str());
@@ -127,8 +127,8 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
       curve << "# per channel: velocity, residual the fitted effect explains\n";
       for (Eigen::Index i = 0; i < d.effect_velocity.rows(); ++i) {
         for (int k = 0; k < n; ++k) {
-          curve << (k ? " " : "") << Number(d.effect_velocity(i, k), "%.7g") << " "
-                << (std::isfinite(d.effect_residual(i, k)) ? Number(d.effect_residual(i, k), "%.7g") : "NaN");
+          curve << (k ? " " : "") << Number(d.effect_velocity(i, k), 7) << " "
+                << (std::isfinite(d.effect_residual(i, k)) ? Number(d.effect_residual(i, k), 7) : "NaN");
         }
         curve << "\n";
       }
@@ -138,7 +138,7 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
   const bool curve = d.effect_velocity.rows() > 0;
   std::string shading;
   for (const auto& [t0, t1] : d.marked_windows) {
-    shading += "set object rect from " + Number(t0, "%.9g") + ", graph 0 to " + Number(t1, "%.9g") +
+    shading += "set object rect from " + Number(t0, 9) + ", graph 0 to " + Number(t1, 9) +
                ", graph 1 behind fc rgb '#ffd8d0' fs solid 0.6 noborder\n";
   }
   const int height = std::max(300, 170 * n);
@@ -241,7 +241,7 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
       const DiagnosisTableRow& row = rows[r];
       html << "<tr" << (row.suggested ? " class=\"suggested\"" : "") << "><td>" << r + 1 << "</td><td>"
            << HtmlEscaped(row.effect) << "</td><td>" << HtmlEscaped(row.target) << "</td><td>"
-           << Number(100.0 * row.score, "%.1f") << "</td><td>" << Number(100.0 * row.explained, "%.1f") << " %</td><td>" << Number(row.rms_after) << "</td><td>"
+           << Fixed(100.0 * row.score, 1) << "</td><td>" << Fixed(100.0 * row.explained, 1) << " %</td><td>" << Number(row.rms_after) << "</td><td>"
            << (row.suggested ? "yes" : "no") << "</td><td>" << HtmlEscaped(row.explanation) << "</td></tr>\n";
     }
     html << "</table>\n";

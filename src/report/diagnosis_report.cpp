@@ -9,22 +9,18 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
 
-std::string F(double x, const char* format = "%.3g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, x);
-  std::string s = buf;
-  if (s == "-0") s = "0";
-  return s;
-}
+// Significant digits (number_text.hpp), a zero shown without its sign.
+std::string F(double x, int significant_digits = 3) { return FormatNumber(x == 0.0 ? 0.0 : x, significant_digits); }
 
 // One decimal; a share that rounds to zero prints "0.0 %", never "-0.0 %".
 std::string Percent(double share) {
   if (!std::isfinite(share)) return "n/a";
-  return (std::abs(100.0 * share) < 0.05 ? std::string("0.0") : F(100.0 * share, "%.1f")) + " %";
+  return (std::abs(100.0 * share) < 0.05 ? std::string("0.0") : FormatFixed(100.0 * share, 1)) + " %";
 }
 
 int DofIndex(const RobotDynamics& model, const std::string& joint) {
@@ -51,11 +47,11 @@ std::string Vec3(const Eigen::VectorXd& v, int start = 0) {
 void ErrorTable(std::ostringstream& out, const std::vector<std::string>& names, const TorqueErrors& before,
                 const TorqueErrors& after, const std::string& unit) {
   for (size_t k = 0; k < names.size(); ++k) {
-    out << "  " << names[k] << ": " << F(before.rms[k], "%.4g") << " (" << Percent(before.relative_rms[k]) << ") -> "
-        << F(after.rms[k], "%.4g") << " (" << Percent(after.relative_rms[k]) << ") " << unit << "\n";
+    out << "  " << names[k] << ": " << F(before.rms[k], 4) << " (" << Percent(before.relative_rms[k]) << ") -> "
+        << F(after.rms[k], 4) << " (" << Percent(after.relative_rms[k]) << ") " << unit << "\n";
   }
-  out << "  all: " << F(before.total_rms, "%.4g") << " (" << Percent(before.total_relative_rms) << ") -> "
-      << F(after.total_rms, "%.4g") << " (" << Percent(after.total_relative_rms) << ") " << unit << "\n";
+  out << "  all: " << F(before.total_rms, 4) << " (" << Percent(before.total_relative_rms) << ") -> "
+      << F(after.total_rms, 4) << " (" << Percent(after.total_relative_rms) << ") " << unit << "\n";
 }
 
 // Why the held-out data do not support a candidate (explained_error.hpp's three conditions).
@@ -69,7 +65,7 @@ std::string NotSuggested(const TorqueErrors& without, const TorqueErrors& with, 
   if (explained < min_explained) return prefix + "it removes only " + Percent(explained) + " of the error";
   if (!(with.total_rms < without.total_rms)) {
     return prefix + "it removes " + Percent(explained) + " on average over joints, but the pooled error rises (" +
-           F(without.total_rms, "%.4g") + " -> " + F(with.total_rms, "%.4g") + ")";
+           F(without.total_rms, 4) + " -> " + F(with.total_rms, 4) + ")";
   }
   return prefix + "no joint's error falls by " + Percent(min_gain) + " of its torque (" + Percent(explained) +
          " of a residual that small is not a missing effect)";
@@ -83,14 +79,14 @@ std::string WhyNot(const CandidateEvidence& e, const TorqueErrors& without, cons
     why = NotSuggested(without, with, e.explained, (rare ? 2.0 : 1.0) * min_explained, min_gain);
   } else {
     why = "not supported: it removes " + Percent(e.explained) + " of the held-out error, but its gain counted in "
-          "independent samples (" + F(e.significance, "%.3g") + ") is " +
-          (e.size_bar > 0.0 ? "below " + F(e.size_bar, "%.3g") : std::string("not positive")) +
+          "independent samples (" + F(e.significance, 3) + ") is " +
+          (e.size_bar > 0.0 ? "below " + F(e.size_bar, 3) : std::string("not positive")) +
           " (the residual is coloured: its samples are not independent)";
   }
   if (e.significance < e.threshold) {
-    why += "; significance " + F(e.significance, "%.3g") + " < " + F(e.threshold, "%.3g");
+    why += "; significance " + F(e.significance, 3) + " < " + F(e.threshold, 3);
   } else if (e.explained < kMinSignificantShare) {
-    why += "; significant (" + F(e.significance, "%.3g") + " >= " + F(e.threshold, "%.3g") + ") but below " +
+    why += "; significant (" + F(e.significance, 3) + " >= " + F(e.threshold, 3) + ") but below " +
            Percent(kMinSignificantShare) + " of the error";
   }
   if (rare) why += " (a spring needs both the held-out size and the significance)";
@@ -120,7 +116,7 @@ std::string Evidence(const CandidateEvidence& e) {
   std::vector<std::string> parts;
   if (e.by_size) parts.push_back("explains " + Percent(e.explained) + " of the held-out error");
   if (e.by_significance) {
-    parts.push_back("significance " + F(e.significance, "%.3g") + " >= " + F(e.threshold, "%.3g") +
+    parts.push_back("significance " + F(e.significance, 3) + " >= " + F(e.threshold, 3) +
                     " (held-out gain in independent samples)");
   }
   if (e.by_plausibility) parts.push_back("restores " + Percent(e.restored) + " of the links' plausibility");
@@ -131,13 +127,13 @@ std::string Evidence(const CandidateEvidence& e) {
 
 // The score the ranking used, as shown (candidate_evidence.hpp: by group).
 std::string ScoreText(const CandidateEvidence& e) {
-  return F(100.0 * e.score, "%.1f") == "-0.0" ? "0.0" : F(100.0 * e.score, "%.1f");
+  return FormatFixed(100.0 * e.score, 1) == "-0.0" ? "0.0" : FormatFixed(100.0 * e.score, 1);
 }
 
 // "thigh identified at 8.5 kg, URDF 1.3 kg; COM moved 12 mm; inertia changed by 310 %".
 std::string Departure(const InertialParams& body, const InertialParams& prior, const BodyPlausibility& p) {
-  std::string s = F(body.mass(), "%.3g") + " kg (URDF " + F(prior.mass(), "%.3g") + " kg)";
-  if (p.com_shift > 0.0) s += ", COM moved " + F(1000.0 * p.com_shift, "%.3g") + " mm";
+  std::string s = F(body.mass(), 3) + " kg (URDF " + F(prior.mass(), 3) + " kg)";
+  if (p.com_shift > 0.0) s += ", COM moved " + F(1000.0 * p.com_shift, 3) + " mm";
   s += ", inertia about the COM changed by " + Percent(p.inertia_change);
   return s;
 }
@@ -146,8 +142,8 @@ std::string Departure(const InertialParams& body, const InertialParams& prior, c
 
 std::string PlausibilityText(const RobotDynamics& model, const JointDiagnosis& d) {
   std::ostringstream out;
-  out << "Identified bodies against their URDF (tolerance: within a factor " << F(1.0 + d.prior_tolerance, "%.3g")
-      << ", departures counted beyond " << F(kDepartureMargin, "%g") << " standard deviations of the estimate)\n";
+  out << "Identified bodies against their URDF (tolerance: within a factor " << F(1.0 + d.prior_tolerance, 3)
+      << ", departures counted beyond " << F(kDepartureMargin, 6) << " standard deviations of the estimate)\n";
   std::vector<std::string> bent;
   for (size_t e = 0; e < d.plausibility.size() && e < model.bodies().size(); ++e) {
     const BodyPlausibility& p = d.plausibility[e];
@@ -157,10 +153,10 @@ std::string PlausibilityText(const RobotDynamics& model, const JointDiagnosis& d
     const InertialParams body = model.BodyInertia(i, d.fit.x), prior = model.BodyInertia(i, x_prior);
     const bool is_link = e < d.links.size() && d.links[e];
     const bool held = e < d.frozen_bodies.size() && d.frozen_bodies[e];
-    out << "  " << model.bodies()[e].name << ": mass x" << F(p.mass_ratio, "%.3g") << ", COM "
-        << F(1000.0 * p.com_shift, "%.3g") << " mm, principal moments x" << F(p.moment_ratios[0], "%.2g") << " x"
-        << F(p.moment_ratios[1], "%.2g") << " x" << F(p.moment_ratios[2], "%.2g") << ", divergence "
-        << F(p.divergence, "%.3g") << ", factor " << F(p.factor, "%.3g")
+    out << "  " << model.bodies()[e].name << ": mass x" << F(p.mass_ratio, 3) << ", COM "
+        << F(1000.0 * p.com_shift, 3) << " mm, principal moments x" << F(p.moment_ratios[0], 2) << " x"
+        << F(p.moment_ratios[1], 2) << " x" << F(p.moment_ratios[2], 2) << ", divergence "
+        << F(p.divergence, 3) << ", factor " << F(p.factor, 3)
         << (held ? " (held at the URDF)" : (!is_link ? " (not a link: no URDF to compare)"
                                                      : (p.Within(d.prior_tolerance) ? "" : "  BENT")))
         << "\n";
@@ -204,7 +200,7 @@ std::string WhereItFailsText(const std::vector<std::string>& dof_names, const Re
   std::ostringstream out;
   out << "Where it fails (" << what << ")\n  worst 1 s windows:";
   for (const ResidualWindow& w : residuals.worst_windows) {
-    out << " t = " << F(w.t_start, "%.1f") << "-" << F(w.t_end, "%.1f") << " s RMS " << F(w.rms) << " (worst "
+    out << " t = " << FormatFixed(w.t_start, 1) << "-" << FormatFixed(w.t_end, 1) << " s RMS " << F(w.rms) << " (worst "
         << dof_names[w.worst_joint] << ");";
   }
   out << "\n  residual ~ c0 + c1 sign(qd) + c2 qd + c3 qdd + c4 (q - mean q), per joint (and its slope on tau alone):\n";
@@ -312,7 +308,7 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   const bool held = std::find(d.frozen_bodies.begin(), d.frozen_bodies.end(), true) != d.frozen_bodies.end();
   out << (held ? "; links held at the URDF" : "") << "\n";
   out << "  fit: " << d.fit.lm.iterations << " iterations, " << (d.fit.lm.converged() ? "converged" : "NOT converged")
-      << "; diagnosis " << F(d.seconds, "%.2f") << " s\n\n";
+      << "; diagnosis " << FormatFixed(d.seconds, 2) << " s\n\n";
   out << "Held-out torque error, RMS (relative): URDF prior -> fitted model\n";
   ErrorTable(out, model.dof_names(), d.prior_validation, d.fit_validation, "N m");
   if (d.links_only_validation) {
@@ -347,15 +343,15 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   for (int i = 0; i < std::min(d.num_suggestions, kShownSuggestions); ++i) {
     const CandidateResult& r = d.candidates[i];
     out << "  " << i + 1 << ". " << EffectItem(r.spec) << " (score " << ScoreText(r.evidence) << "): " << Evidence(r.evidence)
-        << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> " << F(r.validation.total_rms, "%.4g")
+        << "; held-out RMS " << F(d.fit_validation.total_rms, 4) << " -> " << F(r.validation.total_rms, 4)
         << " N m";
     const int k = DofIndex(model, r.joint);
     if (k >= 0) {
-      out << " (" << r.joint << " " << F(d.fit_validation.rms[k], "%.4g") << " -> " << F(r.validation.rms[k], "%.4g")
+      out << " (" << r.joint << " " << F(d.fit_validation.rms[k], 4) << " -> " << F(r.validation.rms[k], 4)
           << ")";
     }
     if (r.implausibility != d.implausibility) {
-      out << "; links' implausibility " << F(d.implausibility, "%.3g") << " -> " << F(r.implausibility, "%.3g");
+      out << "; links' implausibility " << F(d.implausibility, 3) << " -> " << F(r.implausibility, 3);
     }
     out << "\n     " << CandidateExplanation(c, r) << "\n";
   }
@@ -467,10 +463,10 @@ std::string DiagnosisPathText(const std::vector<DiagnosisStep>& path, const Join
   for (size_t i = 0; i < path.size(); ++i) {
     const DiagnosisStep& s = path[i];
     out << "  " << i + 1 << ". added " << s.item << (s.replaced.empty() ? "" : " in place of " + s.replaced) << " (" << Evidence(s.evidence) << ")\n"
-        << "     held-out RMS " << F(s.before.total_rms, "%.4g") << " (" << Percent(s.before.total_relative_rms)
-        << ") -> " << F(s.after.total_rms, "%.4g") << " (" << Percent(s.after.total_relative_rms) << ") N m\n"
-        << "     links' implausibility " << F(s.implausibility_before, "%.3g") << " -> "
-        << F(s.implausibility_after, "%.3g") << "; bent links: " << names(s.bent_before) << " -> "
+        << "     held-out RMS " << F(s.before.total_rms, 4) << " (" << Percent(s.before.total_relative_rms)
+        << ") -> " << F(s.after.total_rms, 4) << " (" << Percent(s.after.total_relative_rms) << ") N m\n"
+        << "     links' implausibility " << F(s.implausibility_before, 3) << " -> "
+        << F(s.implausibility_after, 3) << "; bent links: " << names(s.bent_before) << " -> "
         << names(s.bent_after) << "\n";
   }
   out << "  stopped: "
@@ -554,12 +550,12 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
                                           : CandidateNotSuggested(d, r, c.min_explained, c.min_gain)});
   }
   std::vector<std::string> summary{
-      "Held-out RMS torque error: URDF prior " + F(d.prior_validation.total_rms, "%.4g") + " N m, fitted model " +
-          F(d.fit_validation.total_rms, "%.4g") + " N m (" + std::to_string(d.validation_samples) + " samples, " +
+      "Held-out RMS torque error: URDF prior " + F(d.prior_validation.total_rms, 4) + " N m, fitted model " +
+          F(d.fit_validation.total_rms, 4) + " N m (" + std::to_string(d.validation_samples) + " samples, " +
           c.validation_source + ").",
       d.num_suggestions == 0 ? std::string("No missing effect found: no candidate is supported by the held-out data.")
                              : "Top suggestion: " + d.candidates[0].name + " (" + CandidateExplanation(c, d.candidates[0]) +
-                                   "); held-out RMS with it " + F(d.candidates[0].validation.total_rms, "%.4g") +
+                                   "); held-out RMS with it " + F(d.candidates[0].validation.total_rms, 4) +
                                    " N m."};
   WriteDiagnosisHtml(directory, p, summary, rows, text);
 }
@@ -589,15 +585,15 @@ std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
   for (BodyEffectKind e : d.effects) out << " + " << ToString(e);
   out << ", fitted on " << d.train_pairs << " sample pairs (eq. 13), judged on " << d.validation_pairs
       << " held-out pairs (" << c.validation_source << ")\n  fit: " << d.fit.lm.iterations << " iterations, "
-      << (d.fit.lm.converged() ? "converged" : "NOT converged") << "; diagnosis " << F(d.seconds, "%.2f") << " s\n";
+      << (d.fit.lm.converged() ? "converged" : "NOT converged") << "; diagnosis " << FormatFixed(d.seconds, 2) << " s\n";
   const InertialParams body = model.Body(d.fit.x);
   const ConsistencyReport cr = CheckConsistency(body);
-  out << "  body: mass " << F(body.mass(), "%.5g") << " kg, COM " << Vec3(body.com()) << " m, "
+  out << "  body: mass " << F(body.mass(), 5) << " kg, COM " << Vec3(body.com()) << " m, "
       << (cr.fully_consistent() ? "physically consistent" : "NOT physically consistent") << "\n";
   for (size_t k = 0; k < d.effects.size(); ++k) {
     out << "  " << ToString(d.effects[k]) << ":";
     const Eigen::VectorXd v = model.EffectValues(static_cast<int>(k), d.fit.x);
-    for (int i = 0; i < v.size(); ++i) out << " " << F(v[i], "%.4g");
+    for (int i = 0; i < v.size(); ++i) out << " " << F(v[i], 4);
     out << "\n";
   }
   const std::vector<std::string> names(std::begin(kWrenchChannels), std::end(kWrenchChannels));
@@ -613,8 +609,8 @@ std::string BodyDiagnosisText(const BodyDiagnosisContext& c) {
     const BodyCandidateResult& r = d.candidates[i];
     out << "  " << (i < d.num_suggestions ? std::to_string(i + 1) + ". " : "(not suggested) ") << ToString(r.kind)
         << " (score " << ScoreText(r.evidence) << "): explains " << Percent(r.explained) << ", significance "
-        << F(r.evidence.significance, "%.3g") << "; held-out RMS " << F(d.fit_validation.total_rms, "%.4g") << " -> "
-        << F(r.validation.total_rms, "%.4g") << "\n";
+        << F(r.evidence.significance, 3) << "; held-out RMS " << F(d.fit_validation.total_rms, 4) << " -> "
+        << F(r.validation.total_rms, 4) << "\n";
     out << "     "
         << (i < d.num_suggestions ? BodyCandidateExplanation(r)
                                   : WhyNot(r.evidence, d.fit_validation, r.validation, c.min_explained, c.min_gain, false))
@@ -716,8 +712,8 @@ void WriteBodyDiagnosisReport(const std::string& directory, const BodyDiagnosisC
                                           : WhyNot(r.evidence, d.fit_validation, r.validation, c.min_explained,
                                                    c.min_gain, false)});
   }
-  std::vector<std::string> summary{"Held-out RMS wrench error: prior " + F(d.prior_validation.total_rms, "%.4g") +
-                                   ", fitted model " + F(d.fit_validation.total_rms, "%.4g") + " (" +
+  std::vector<std::string> summary{"Held-out RMS wrench error: prior " + F(d.prior_validation.total_rms, 4) +
+                                   ", fitted model " + F(d.fit_validation.total_rms, 4) + " (" +
                                    c.validation_source + ")."};
   WriteDiagnosisHtml(directory, p, summary, rows, text);
 }

@@ -9,6 +9,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/report/validation_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -17,11 +18,6 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string Format(const char* format, double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, x);
-  return buf;
-}
 
 // Principal moments (ascending) and axes (columns, right-handed) of a symmetric 3x3 tensor.
 void Principal(const Matrix3& I, Vector3* moments, Matrix3* axes) {
@@ -129,24 +125,24 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
     out << " (" << run.validation_left_out << " more left out: a value or prediction not finite)";
   }
   out << "\n  Levenberg-Marquardt: " << fit.lm.iterations << " iterations, stopped on " << ToString(fit.lm.reason)
-      << (fit.lm.converged() ? " (converged)" : " (NOT converged)") << ", " << Format("%.3f", run.fit_seconds)
+      << (fit.lm.converged() ? " (converged)" : " (NOT converged)") << ", " << FormatFixed(run.fit_seconds, 3)
       << " s with the regressor (" << run.outliers.rounds << " fit" << (run.outliers.rounds == 1 ? "" : "s")
       << " of the outlier screening)\n";
   const OutlierReport& o = run.outliers;
   if (!o.rejected.empty()) {
     out << "  outliers: " << o.rejected.size() << " of " << run.train_samples + static_cast<int>(o.rejected.size())
         << " training rows left out (" << o.non_finite.size() << " with non-finite values; the others beyond "
-        << Format("%.3g", o.threshold) << " robust standard deviations of the residual), e.g.\n";
+        << FormatNumber(o.threshold, 3) << " robust standard deviations of the residual), e.g.\n";
     for (const std::string& r : o.reasons) out << "    " << r << "\n";
   }
-  out << "  cost: data " << Format("%.6g", fit.data_cost) << " N^2 m^2, regularizer " << Format("%.6g", fit.regularizer)
+  out << "  cost: data " << FormatNumber(fit.data_cost, 6) << " N^2 m^2, regularizer " << FormatNumber(fit.regularizer, 6)
       << "\n\n";
 
   bool all_consistent = true;
   out << "Bodies (each in its own link frame; inertia about the COM)";
   if (run.uncertainty) {
     out << "; +- one standard deviation from the fit's curvature with the torque noise estimated from the residual ("
-        << Format("%.4g", run.uncertainty->noise_sigma) << " N m); \"held by the prior\": the data determine it "
+        << FormatNumber(run.uncertainty->noise_sigma, 4) << " N m); \"held by the prior\": the data determine it "
         << "less than the regularizer does";
   } else if (!run.uncertainty_unavailable.empty()) {
     out << "; no standard deviations: " << run.uncertainty_unavailable;
@@ -162,16 +158,16 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
     Vector3 moments;
     Matrix3 axes;
     Principal(I, &moments, &axes);
-    out << "  " << model.bodies()[e].name << ": mass " << Format("%.6g", body.mass()) << " kg (prior "
-        << Format("%.6g", prior.mass()) << "), COM [" << Format("%.5g", com.x()) << ", " << Format("%.5g", com.y())
-        << ", " << Format("%.5g", com.z()) << "] m\n";
-    out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << Format("%.5g", I(0, 0)) << " "
-        << Format("%.5g", I(1, 1)) << " " << Format("%.5g", I(2, 2)) << " " << Format("%.5g", I(0, 1)) << " "
-        << Format("%.5g", I(1, 2)) << " " << Format("%.5g", I(0, 2)) << "] kg m^2\n";
-    out << "    principal moments [" << Format("%.5g", moments[0]) << " " << Format("%.5g", moments[1]) << " "
-        << Format("%.5g", moments[2]) << "] kg m^2 about axes";
+    out << "  " << model.bodies()[e].name << ": mass " << FormatNumber(body.mass(), 6) << " kg (prior "
+        << FormatNumber(prior.mass(), 6) << "), COM [" << FormatNumber(com.x(), 5) << ", " << FormatNumber(com.y(), 5)
+        << ", " << FormatNumber(com.z(), 5) << "] m\n";
+    out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << FormatNumber(I(0, 0), 5) << " "
+        << FormatNumber(I(1, 1), 5) << " " << FormatNumber(I(2, 2), 5) << " " << FormatNumber(I(0, 1), 5) << " "
+        << FormatNumber(I(1, 2), 5) << " " << FormatNumber(I(0, 2), 5) << "] kg m^2\n";
+    out << "    principal moments [" << FormatNumber(moments[0], 5) << " " << FormatNumber(moments[1], 5) << " "
+        << FormatNumber(moments[2], 5) << "] kg m^2 about axes";
     for (int k = 0; k < 3; ++k) {
-      out << " (" << Format("%.3f", axes(0, k)) << " " << Format("%.3f", axes(1, k)) << " " << Format("%.3f", axes(2, k))
+      out << " (" << FormatFixed(axes(0, k), 3) << " " << FormatFixed(axes(1, k), 3) << " " << FormatFixed(axes(2, k), 3)
           << ")";
     }
     out << "\n";
@@ -179,8 +175,8 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
     }
     out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
-        << " (mass " << Format("%.3g", c.mass) << " kg, triangle margin " << Format("%.3g", c.min_triangle_margin)
-        << " kg m^2, min eig J " << Format("%.3g", c.min_pseudo_inertia_eigenvalue) << ")\n";
+        << " (mass " << FormatNumber(c.mass, 3) << " kg, triangle margin " << FormatNumber(c.min_triangle_margin, 3)
+        << " kg m^2, min eig J " << FormatNumber(c.min_pseudo_inertia_eigenvalue, 3) << ")\n";
   }
   if (!model.effects().empty()) {
     out << "\nEffects\n";
@@ -190,8 +186,8 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
       out << "  " << ToString(t.kind) << "@" << t.joint << ":";
       for (size_t i = 0; i < v.size(); ++i) {
-        out << " " << names[i] << " = " << Format("%.6g", v[i]);
-        if (run.uncertainty) out << " +- " << Format("%.3g", run.uncertainty->effects[k][i]);
+        out << " " << names[i] << " = " << FormatNumber(v[i], 6);
+        if (run.uncertainty) out << " +- " << FormatNumber(run.uncertainty->effects[k][i], 3);
         out << " " << units[i];
       }
       out << "\n";
@@ -200,12 +196,12 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   auto table = [&](const char* what, const TorqueErrors& prior, const TorqueErrors& fitted) {
     out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
     for (int k = 0; k < model.num_dofs(); ++k) {
-      out << "  " << model.dof_names()[k] << ": " << Format("%.4g", prior.rms[k]) << " ("
-          << Format("%.1f", 100 * prior.relative_rms[k]) << " %) -> " << Format("%.4g", fitted.rms[k]) << " ("
-          << Format("%.1f", 100 * fitted.relative_rms[k]) << " %)\n";
+      out << "  " << model.dof_names()[k] << ": " << FormatNumber(prior.rms[k], 4) << " ("
+          << FormatFixed(100 * prior.relative_rms[k], 1) << " %) -> " << FormatNumber(fitted.rms[k], 4) << " ("
+          << FormatFixed(100 * fitted.relative_rms[k], 1) << " %)\n";
     }
-    out << "  all joints: " << Format("%.4g", prior.total_rms) << " (" << Format("%.1f", 100 * prior.total_relative_rms)
-        << " %) -> " << Format("%.4g", fitted.total_rms) << " (" << Format("%.1f", 100 * fitted.total_relative_rms)
+    out << "  all joints: " << FormatNumber(prior.total_rms, 4) << " (" << FormatFixed(100 * prior.total_relative_rms, 1)
+        << " %) -> " << FormatNumber(fitted.total_rms, 4) << " (" << FormatFixed(100 * fitted.total_relative_rms, 1)
         << " %)\n";
   };
   table("training", run.prior_train, run.fit_train);
@@ -213,7 +209,7 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
 
   const IdentifiabilityReport& id = run.identifiability;
   out << "\nIdentifiability: " << id.rank << " of " << id.num_parameters
-      << " regressor columns identified (condition number " << Format("%.3g", id.condition_number) << ")";
+      << " regressor columns identified (condition number " << FormatNumber(id.condition_number, 3) << ")";
   if (id.directions.empty()) {
     out << "; every direction is excited\n";
   } else {

@@ -1,16 +1,11 @@
 #include "inertial/report/link_inertial_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <cstdio>
 #include <sstream>
 
 namespace inertial {
 namespace {
-
-std::string Number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", x);
-  return buf;
-}
 
 // [Ixx Iyy Izz Ixy Iyz Ixz] about the COM.
 std::vector<double> InertiaAboutCom(const InertialParams& body) {
@@ -27,9 +22,9 @@ void LinkText(const LinkInertialCheck& l, std::ostream& out) {
   }
   const ConsistencyReport& r = l.consistency;
   out << "  " << l.link << ": " << (r.fully_consistent() ? "consistent" : "IMPOSSIBLE") << where << "\n"
-      << "    mass " << Number(r.mass) << " kg; at the COM: min inertia eigenvalue " << Number(r.min_inertia_eigenvalue_com)
-      << " kg m^2, min triangle margin " << Number(r.min_triangle_margin) << " kg m^2; min pseudo-inertia eigenvalue "
-      << Number(r.min_pseudo_inertia_eigenvalue) << "\n";
+      << "    mass " << FormatNumber(r.mass, 4) << " kg; at the COM: min inertia eigenvalue " << FormatNumber(r.min_inertia_eigenvalue_com, 4)
+      << " kg m^2, min triangle margin " << FormatNumber(r.min_triangle_margin, 4) << " kg m^2; min pseudo-inertia eigenvalue "
+      << FormatNumber(r.min_pseudo_inertia_eigenvalue, 4) << "\n";
   if (!l.impossible()) return;
   out << "    " << r.reason << "\n";
   if (!l.repaired) {
@@ -38,7 +33,7 @@ void LinkText(const LinkInertialCheck& l, std::ostream& out) {
   }
   out << "    nearest consistent (same mass and COM): inertia about the COM [Ixx Iyy Izz Ixy Iyz Ixz] = [";
   const std::vector<double> I = InertiaAboutCom(*l.repaired);
-  for (std::size_t k = 0; k < I.size(); ++k) out << (k ? " " : "") << Number(I[k]);
+  for (std::size_t k = 0; k < I.size(); ++k) out << (k ? " " : "") << FormatNumber(I[k], 4);
   out << "] kg m^2\n";
 }
 

@@ -1,4 +1,5 @@
 #include "inertial/report/online_diagnosis_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -7,17 +8,7 @@
 namespace inertial {
 namespace {
 
-std::string F(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", x);
-  return buffer;
-}
-
-std::string Percent(double share) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f %%", 100.0 * share);
-  return buffer;
-}
+std::string Percent(double share) { return FormatFixed(100.0 * share, 1) + " %"; }
 
 std::string Evidence(const CandidateEvidence& e) {
   std::string s;
@@ -59,33 +50,33 @@ std::string OnlineCandidateExplanation(const OnlineCandidate& c) {
   const std::string& j = c.joint;
   const double v0 = c.values.empty() ? 0.0 : c.values[0];
   const double v1 = c.values.size() > 1 ? c.values[1] : 0.0;
-  const std::string fall = " (its RMS " + F(c.rms_before) + " -> " + F(c.rms_after) + " N m)";
+  const std::string fall = " (its RMS " + FormatNumber(c.rms_before, 3) + " -> " + FormatNumber(c.rms_after, 3) + " N m)";
   switch (c.kind) {
     case EffectKind::kCoulomb:
       return "the " + j + " residual steps where the velocity changes sign" + fall + ": Coulomb (dry) friction of " +
-             F(v0) + " N m is missing";
+             FormatNumber(v0, 3) + " N m is missing";
     case EffectKind::kViscous:
-      return "the " + j + " residual grows in proportion to velocity" + fall + ": viscous friction b = " + F(v0) +
+      return "the " + j + " residual grows in proportion to velocity" + fall + ": viscous friction b = " + FormatNumber(v0, 3) +
              " N m s/rad is missing";
     case EffectKind::kOffset:
-      return "the " + j + " residual has a constant part" + fall + ": a torque-sensor offset of " + F(v0) +
+      return "the " + j + " residual has a constant part" + fall + ": a torque-sensor offset of " + FormatNumber(v0, 3) +
              " N m is missing";
     case EffectKind::kArmature:
       return "the " + j + " residual follows the acceleration" + fall + ": reflected rotor inertia (armature) Ia = " +
-             F(v0) + " kg m^2 is missing";
+             FormatNumber(v0, 3) + " kg m^2 is missing";
     case EffectKind::kSpring:
-      return "the " + j + " residual grows with position" + fall + ": a spring k = " + F(v0) + " N m/rad about q0 = " +
-             F(v1) + " rad is missing";
+      return "the " + j + " residual grows with position" + fall + ": a spring k = " + FormatNumber(v0, 3) + " N m/rad about q0 = " +
+             FormatNumber(v1, 3) + " rad is missing";
     case EffectKind::kAsymmetric:
       return "the " + j + " residual steps by different amounts in the two directions" + fall + ": dry friction of " +
-             F(v0) + " N m for positive velocity and " + F(v1) + " N m for negative is missing" +
+             FormatNumber(v0, 3) + " N m for positive velocity and " + FormatNumber(v1, 3) + " N m for negative is missing" +
              (c.replaces.empty() ? "" : " (in place of " + c.replaces + ")");
     case EffectKind::kPayload: {
       const double m = v0;
       const std::string com = m > 0.0 && c.values.size() >= 4
-                                  ? "[" + F(c.values[1] / m) + ", " + F(c.values[2] / m) + ", " + F(c.values[3] / m) + "]"
+                                  ? "[" + FormatNumber(c.values[1] / m, 3) + ", " + FormatNumber(c.values[2] / m, 3) + ", " + FormatNumber(c.values[3] / m, 3) + "]"
                                   : "[]";
-      return c.link + " is estimated heavier than its URDF beyond the tolerance: a payload of " + F(m) +
+      return c.link + " is estimated heavier than its URDF beyond the tolerance: a payload of " + FormatNumber(m, 3) +
              " kg with its centre of mass at " + com + " m (link frame) takes it back to its URDF (or that URDF is wrong)";
     }
     default:
@@ -96,7 +87,7 @@ std::string OnlineCandidateExplanation(const OnlineCandidate& c) {
 std::string OnlineDiagnosisText(const OnlineDiagnosisResult& r) {
   std::ostringstream out;
   out << "Online diagnosis (prequential: every sample predicted before it is learned from), " << r.samples
-      << " samples over the last " << F(r.window_seconds) << " s: model RMS " << F(r.model.total_rms) << " N m ("
+      << " samples over the last " << FormatNumber(r.window_seconds, 3) << " s: model RMS " << FormatNumber(r.model.total_rms, 3) << " N m ("
       << Percent(r.model.total_relative_rms) << ")\n";
   for (const std::string& note : r.notes) out << "  note: " << note << "\n";
   if (!r.bent_links.empty()) {

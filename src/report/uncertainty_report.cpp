@@ -5,6 +5,7 @@
 
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -12,12 +13,8 @@ namespace {
 constexpr const char* kInertiaNames[6] = {"Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
 constexpr const char* kAxisNames[3] = {"x", "y", "z"};
 
-std::string G(double x) {
-  if (std::isinf(x)) return "inf";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+// Three significant digits; an unbounded uncertainty, of either sign, is "inf".
+std::string G(double x) { return std::isinf(x) ? "inf" : FormatNumber(x, 3); }
 
 nlohmann::json Number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); }
 
@@ -34,9 +31,7 @@ ModelUncertainty FromFit(const FitUncertainty& fit) {
   u.bodies = fit.bodies;
   u.held = fit.body_held;
   u.effects = fit.effects;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "from the fit's curvature, torque noise %.3g N m estimated from the residual", fit.noise_sigma);
-  u.source = buf;
+  u.source = "from the fit's curvature, torque noise " + FormatNumber(fit.noise_sigma, 3) + " N m estimated from the residual";
   return u;
 }
 

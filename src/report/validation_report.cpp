@@ -9,6 +9,7 @@
 #include "inertial/report/diagnosis_report.hpp"
 #include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -16,13 +17,8 @@ namespace {
 constexpr double kWindowSeconds = 1.0;  // as diagnose's "where it fails"
 constexpr int kWorstWindows = 3;
 
-std::string F(double x, const char* format = "%.4g") {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, x);
-  return buf;
-}
 
-std::string Percent(double share) { return std::isfinite(share) ? F(100.0 * share, "%.2f") + " %" : "n/a"; }
+std::string Percent(double share) { return std::isfinite(share) ? FormatFixed(100.0 * share, 2) + " %" : "n/a"; }
 
 nlohmann::json PerChannel(const std::vector<std::string>& channels, const Eigen::VectorXd& v, double total) {
   nlohmann::json j = nlohmann::json::object();
@@ -45,7 +41,7 @@ void LeaveOutNonFinite(ModelValidation* v) {
       if (!(std::abs(s.tau(i, j)) < kLargestSquarable)) what = "tau_" + v->channels[j];
       if (!std::isfinite(s.qd(i, j))) what = "qd_" + v->channels[j];
     }
-    v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + F(s.t[i], "%.10g") + " s): " + what +
+    v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + FormatNumber(s.t[i], 10) + " s): " + what +
                                   " is not finite or too large to square");
   }
   if (static_cast<int>(bad.size()) == s.size()) {
@@ -142,10 +138,10 @@ std::string ValidationText(const ModelValidation& v) {
       << (v.unit == "N m" ? " samples" : " sample pairs") << "; no fit: the model as stated)\n";
   out << "RMS error (predicted - measured) and relative RMS (over the RMS of the measurement):\n";
   for (std::size_t k = 0; k < v.channels.size(); ++k) {
-    out << "  " << v.channels[k] << ": " << F(v.errors.rms[static_cast<int>(k)]) << " ("
+    out << "  " << v.channels[k] << ": " << FormatNumber(v.errors.rms[static_cast<int>(k)], 4) << " ("
         << Percent(v.errors.relative_rms[static_cast<int>(k)]) << ")\n";
   }
-  out << "  all: " << F(v.errors.total_rms) << " (" << Percent(v.errors.total_relative_rms) << ") " << v.unit << "\n";
+  out << "  all: " << FormatNumber(v.errors.total_rms, 4) << " (" << Percent(v.errors.total_relative_rms) << ") " << v.unit << "\n";
   if (v.left_out > 0) {
     out << "  left out: " << v.left_out << " samples whose measurement or prediction is not finite, e.g.\n";
     for (const std::string& r : v.left_out_reasons) out << "    " << r << "\n";
@@ -183,7 +179,7 @@ void WriteValidationReport(const std::string& directory, const ModelValidation& 
   p.error_labels = {v.model_source};
   p.error_rms = {v.errors.rms};
   const std::vector<std::string> summary{"RMS error of " + v.model_source + " on " + v.data_source + ": " +
-                                         F(v.errors.total_rms) + " " + v.unit + " (" +
+                                         FormatNumber(v.errors.total_rms, 4) + " " + v.unit + " (" +
                                          Percent(v.errors.total_relative_rms) + " of the measurement's RMS)."};
   WriteDiagnosisHtml(directory, p, summary, {}, text);
 }

@@ -61,7 +61,9 @@ InertialParams BodyPrior(const std::string& text) {
   pi << 1, 0, 0, 0, 1, 1, 1, 0, 0, 0;
   if (!text.empty()) {
     const std::vector<double> v = ParseNumberList(text, "--prior");
-    if (v.size() != 10) throw std::invalid_argument("--prior: " + std::to_string(v.size()) + " numbers, 10 expected");
+    if (v.size() != 10) {
+      throw std::invalid_argument("--prior: " + std::to_string(v.size()) + " numbers given, 10 expected ('" + text + "')");
+    }
     pi = Eigen::Map<const Vector10>(v.data());
   }
   return InertialParams::FromVector(pi);

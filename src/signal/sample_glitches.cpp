@@ -8,6 +8,7 @@
 
 #include "inertial/signal/robust_statistics.hpp"
 #include "inertial/signal/robust_statistics.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -56,12 +57,6 @@ Expectation Expect(const Eigen::MatrixXd& m, int column, int i) {
     }
   }
   return {Median(extrapolated), TrimmedSpread(neighbours)};
-}
-
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g", value);
-  return text;
 }
 
 }  // namespace
@@ -151,9 +146,9 @@ BodyLog SelectBodySamples(const BodyLog& log, const std::vector<int>& keep_rows)
 std::string DescribeGlitch(const BodyLog& log, const SampleGlitch& glitch) {
   const std::vector<std::string> names = BodySignalNames(log);
   const std::string column = glitch.column < static_cast<int>(names.size()) ? names[glitch.column] : "column " + std::to_string(glitch.column);
-  const std::string time = glitch.row < static_cast<int>(log.samples.size()) ? Number(log.samples[glitch.row].t) : "?";
-  return "sample " + std::to_string(glitch.row) + " (t = " + time + " s): " + column + " = " + Number(glitch.value) +
-         ", expected " + Number(glitch.expected) + " from its neighbours (" + Number(glitch.scales) + " robust scales)";
+  const std::string time = glitch.row < static_cast<int>(log.samples.size()) ? FormatNumber(log.samples[glitch.row].t, 4) : "?";
+  return "sample " + std::to_string(glitch.row) + " (t = " + time + " s): " + column + " = " + FormatNumber(glitch.value, 4) +
+         ", expected " + FormatNumber(glitch.expected, 4) + " from its neighbours (" + FormatNumber(glitch.scales, 4) + " robust scales)";
 }
 
 }  // namespace inertial

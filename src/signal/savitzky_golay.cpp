@@ -1,4 +1,5 @@
 #include "inertial/signal/savitzky_golay.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -11,13 +12,6 @@
 namespace inertial {
 namespace {
 
-/// Shortest text that reads back as the same double.
-std::string Str(double value) {
-  char buffer[32];
-  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, r.ptr);
-}
-
 void CheckInputs(const Eigen::VectorXd& t, const Eigen::MatrixXd& x, const SavitzkyGolayOptions& options) {
   const std::string where = "SavitzkyGolay: ";
   if (options.order < 2) {
@@ -25,7 +19,7 @@ void CheckInputs(const Eigen::VectorXd& t, const Eigen::MatrixXd& x, const Savit
                                 " is below 2 (the second derivative needs a polynomial of order >= 2)");
   }
   if (!(options.window > 0.0) || !std::isfinite(options.window)) {
-    throw std::invalid_argument(where + "window " + Str(options.window) + " s is not a positive finite width");
+    throw std::invalid_argument(where + "window " + FormatNumberExact(options.window) + " s is not a positive finite width");
   }
   if (t.size() != x.rows()) {
     throw std::invalid_argument(where + "t has " + std::to_string(t.size()) + " samples but x has " +
@@ -37,17 +31,17 @@ void CheckInputs(const Eigen::VectorXd& t, const Eigen::MatrixXd& x, const Savit
                                 " needed)");
   }
   for (Eigen::Index i = 0; i < t.size(); ++i) {
-    if (!std::isfinite(t[i])) throw std::invalid_argument(where + "t[" + std::to_string(i) + "] = " + Str(t[i]) + " is not finite");
+    if (!std::isfinite(t[i])) throw std::invalid_argument(where + "t[" + std::to_string(i) + "] = " + FormatNumberExact(t[i]) + " is not finite");
     if (i > 0 && !(t[i] > t[i - 1])) {
-      throw std::invalid_argument(where + "t is not strictly increasing: t[" + std::to_string(i) + "] = " + Str(t[i]) +
-                                  " is not after t[" + std::to_string(i - 1) + "] = " + Str(t[i - 1]));
+      throw std::invalid_argument(where + "t is not strictly increasing: t[" + std::to_string(i) + "] = " + FormatNumberExact(t[i]) +
+                                  " is not after t[" + std::to_string(i - 1) + "] = " + FormatNumberExact(t[i - 1]));
     }
   }
   if (!x.allFinite()) {
     for (Eigen::Index j = 0; j < x.cols(); ++j) {
       for (Eigen::Index i = 0; i < x.rows(); ++i) {
         if (!std::isfinite(x(i, j))) {
-          throw std::invalid_argument(where + "x(" + std::to_string(i) + ", " + std::to_string(j) + ") = " + Str(x(i, j)) +
+          throw std::invalid_argument(where + "x(" + std::to_string(i) + ", " + std::to_string(j) + ") = " + FormatNumberExact(x(i, j)) +
                                       " is not finite");
         }
       }

@@ -18,14 +18,11 @@
 
 #include "inertial/inertia/types.hpp"
 #include "inertial/formats/urdf_model.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial::testing {
 
-inline std::string Num(double value) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
+inline std::string Num(double value) { return FormatNumber(value, kRoundTripDigits); }
 
 inline std::string Triple(const Vector3& v) { return Num(v.x()) + " " + Num(v.y()) + " " + Num(v.z()); }
 

@@ -475,6 +475,17 @@ TEST(JointSimulation, RejectsBadInput) {
   }
   EXPECT_THROW(SimulateJoints(unit_mass, kPassive, one, two, ok), std::invalid_argument);
   EXPECT_THROW(SimulateJoints(unit_mass, kPassive, one, one, ok, {"a", "b"}), std::invalid_argument);
+  // The refused value is named with its significant digits (a fixed 6 decimals would show -1e-7 as
+  // -0.000000).
+  JointSimulationOptions tiny = ok;
+  tiny.internal_step = -1e-7;
+  try {
+    SimulateJoints(unit_mass, kPassive, one, one, tiny);
+    ADD_FAILURE() << "a negative internal_step was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("internal_step must be positive and finite, got -1e-07"), std::string::npos)
+        << e.what();
+  }
 
   const FourierTrajectory traj = RandomFourierTrajectory(2, 2, 1.0, 0.1, 0);
   JointSimulationOptions gains = ok;

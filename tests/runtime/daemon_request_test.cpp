@@ -145,7 +145,7 @@ TEST(DaemonRequest, ABodyStartsFromItsPrior) {
   r.prior = "1 0 0";
   const Refusal e = RefusalOf(r, true);
   EXPECT_EQ(e.failure, StartFailure::kUsage);
-  EXPECT_EQ(e.message, "--prior: 3 numbers, 10 expected");
+  EXPECT_EQ(e.message, "--prior: 3 numbers given, 10 expected ('1 0 0')");
 }
 
 TEST(DaemonRequest, ModelsAndMotorsThatCannotBeUsedAreFileErrors) {

@@ -24,6 +24,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/inertial_params.hpp"
 #include "inertial/inertia/log_cholesky.hpp"
+#include "inertial/model/number_text.hpp"
 #include "inertial/study/paper_study.hpp"
 #include "cli_support.hpp"
 #include "test_support.hpp"
@@ -52,11 +53,7 @@ using testing::RunCli;
 using testing::UniqueTempPath;
 
 // Shortest text that reads back to exactly x.
-std::string Num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
+std::string Num(double x) { return FormatNumberExact(x); }
 
 template <typename Derived>
 std::vector<std::string> Args(const Eigen::MatrixBase<Derived>& v) {
@@ -360,6 +357,26 @@ TEST_F(ConvertCli, ReferenceBodyBothWaysForAnotherBody) {
       Concat({"convert", "--from", "theta", "--to", "pi", "--json", "--reference", ref_text, "--"}, Args(theta)));
   ASSERT_EQ(to_pi.exit_code, kExitOk) << Describe(to_pi);
   EXPECT_TRUE(Near(JsonVector10(ParseJson(to_pi), "pi"), body.vector(), 1e-12));
+}
+
+// --reference as ten separate arguments is the same reference as one list of them.
+TEST_F(ConvertCli, ReferenceAsSeparateArgumentsOrAsOneList) {
+  Rng rng(110);
+  const InertialParams reference = SolidBox(1.5, 0.3, 0.4, 0.5, RandomPose(rng));
+  const InertialParams body = SolidCylinder(0.6, 0.08, 0.3, RandomPose(rng));
+  const std::vector<std::string> ref = Args(reference.vector());
+  std::string ref_text;
+  for (int i = 0; i < 10; ++i) ref_text += (i ? "," : "") + ref[static_cast<std::size_t>(i)];
+  const CliRun list = RunCli(Concat({"convert", "--from", "pi", "--to", "theta", "--json", "--reference", ref_text, "--"},
+                                    Args(body.vector())));
+  std::vector<std::string> separate_args = {"convert", "--from", "pi", "--to", "theta", "--json", "--reference"};
+  separate_args.insert(separate_args.end(), ref.begin(), ref.end());
+  separate_args.push_back("--");
+  const CliRun separate = RunCli(Concat(separate_args, Args(body.vector())));
+  ASSERT_EQ(list.exit_code, kExitOk) << Describe(list);
+  ASSERT_EQ(separate.exit_code, kExitOk) << Describe(separate);
+  EXPECT_EQ(separate.out, list.out);
+  EXPECT_TRUE(Near(JsonVector10(ParseJson(separate), "theta"), LogCholeskyParameterization(reference).ThetaOf(body), 1e-12));
 }
 
 TEST_F(ConvertCli, InconsistentReferenceIsRefused) {

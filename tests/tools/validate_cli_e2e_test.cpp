@@ -284,5 +284,63 @@ TEST(ValidateCli, SingleBodyDataAgainstABody) {
   fs::remove(csv);
 }
 
+// Options taking several numbers take them as separate arguments or as one list (spaces or
+// commas): --pi and --effect-values each spelled three ways give the same report, byte for byte;
+// a wrong count is refused naming the option, the count expected and the text given; --help says
+// so for each such option.
+TEST(ValidateCli, SeveralNumbersAsArgumentsOrAsOneList) {
+  const InertialParams body = testing::TestFreeBody();
+  const BodyLog log = testing::SimulateFreeBody(body, 100, 40, 6, [](TwistWrenchSample* s, testing::Rng* rng) {
+    s->twist[0] += 0.1;
+    for (int k = 0; k < 6; ++k) s->wrench[k] += rng->Normal(0.01);
+  });
+  const fs::path csv = testing::UniqueTempPath("body.csv");
+  WriteBodyCsv(csv.string(), log);
+  std::vector<std::string> pi, bias = {"0.1", "0", "0", "0", "0", "-0"};
+  for (int k = 0; k < 10; ++k) pi.push_back(testing::Num(body.vector()[k]));
+  auto joined = [](const std::vector<std::string>& v, const std::string& separator) {
+    std::string s;
+    for (std::size_t k = 0; k < v.size(); ++k) s += (k ? separator : "") + v[k];
+    return s;
+  };
+  auto run = [&](const std::vector<std::string>& pi_args, const std::vector<std::string>& bias_args) {
+    std::vector<std::string> args{"validate", "--body", "--data", csv.string(), "--json", "--pi"};
+    args.insert(args.end(), pi_args.begin(), pi_args.end());
+    args.insert(args.end(), {"--effects", "velocity_bias", "--effect-values"});
+    args.insert(args.end(), bias_args.begin(), bias_args.end());
+    return RunCli(args);
+  };
+  const testing::CliRun separate = run(pi, bias);
+  ASSERT_EQ(separate.exit_code, 0) << Describe(separate);
+  EXPECT_GT(Json(separate).value("rms", nlohmann::json::object()).value("total", -1.0), 0.0) << separate.out;
+  const testing::CliRun spaces = run({joined(pi, " ")}, {joined(bias, " ")});
+  const testing::CliRun commas = run({joined(pi, ",")}, {joined(bias, ", ")});
+  ASSERT_EQ(spaces.exit_code, 0) << Describe(spaces);
+  ASSERT_EQ(commas.exit_code, 0) << Describe(commas);
+  EXPECT_EQ(spaces.out, separate.out);
+  EXPECT_EQ(commas.out, separate.out);
+
+  // Nine numbers, either way: refused (usage, exit 2) with the option, the 10 expected and the text.
+  const std::vector<std::string> nine(pi.begin(), pi.end() - 1);
+  for (const std::vector<std::string>& short_pi : {nine, std::vector<std::string>{joined(nine, ",")}}) {
+    const testing::CliRun r = run(short_pi, bias);
+    EXPECT_EQ(r.exit_code, 2) << Describe(r);
+    EXPECT_TRUE(Contains(r.err, "--pi: 9 numbers given, 10 expected")) << Describe(r);
+    EXPECT_TRUE(Contains(r.err, nine[0])) << Describe(r);  // the text given
+  }
+  const testing::CliRun gravity = RunCli({"validate", "--model", Leg(), "--data", csv.string(), "--gravity", "0", "-9.81"});
+  EXPECT_EQ(gravity.exit_code, 2) << Describe(gravity);
+  EXPECT_TRUE(Contains(gravity.err, "--gravity: 2 numbers given, 3 expected ('0 -9.81')")) << Describe(gravity);
+
+  const testing::CliRun help = RunCli({"validate", "--help"});
+  for (const char* option : {"--pi", "--effect-values", "--gravity"}) {
+    const std::size_t at = help.out.find(std::string("  ") + option + " ");
+    ASSERT_NE(at, std::string::npos) << option << "\n" << help.out;
+    const std::size_t next = help.out.find("\n  -", at + 1);
+    EXPECT_TRUE(Contains(help.out.substr(at, next - at), "as separate arguments")) << option << "\n" << help.out;
+  }
+  fs::remove(csv);
+}
+
 }  // namespace
 }  // namespace inertial

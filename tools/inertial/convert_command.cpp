@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "option_parsing.hpp"
 #include "inertial/formats/body_representation.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/report/body_conversion_report.hpp"
@@ -44,7 +45,7 @@ std::vector<double> ReadInputNumbers(const ConvertCommand& c) {
 std::optional<InertialParams> ReadReference(const ConvertCommand& c) {
   if (c.reference.empty()) return std::nullopt;
   const std::vector<double> r = ParseNumberList(c.reference, "--reference");
-  if (r.size() != 10) throw UsageError("--reference takes 10 numbers (pi), got " + std::to_string(r.size()));
+  if (r.size() != 10) throw UsageError(NumberCountError("--reference", 10, r.size(), c.reference));
   const InertialParams reference = InertialParams::FromVector(Eigen::Map<const Vector10>(r.data()));
   const ConsistencyReport report = CheckConsistency(reference);
   if (!report.fully_consistent()) {
@@ -70,7 +71,7 @@ CLI::App* AddConvertCommand(CLI::App& app, ConvertCommand* c) {
   sub->add_option("--from", c->from, "representation of the input")->required()->check(CLI::IsMember(names));
   sub->add_option("--to", c->to, "representation of the output")->required()->check(CLI::IsMember(names));
   sub->add_option("--reference", c->reference,
-                  "pi of the reference body for theta (eq. 11), 10 numbers separated by commas or spaces");
+                  "pi of the reference body for theta (eq. 11)");
   sub->add_flag("--json", c->json, "print a JSON object (key = the --to name, plus 'consistency')");
   sub->add_flag("--allow-inconsistent", c->allow_inconsistent,
                 "convert an inconsistent body where the target exists (pi, mci, pseudo, spatial)");

@@ -51,7 +51,7 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
   sub->add_flag("--hold-links", c->hold_links,
                 "hold the links at their URDF inertias (rotors, payloads and effects still fitted) and test a payload "
                 "on every link");
-  sub->add_option("--prior", c->prior, "--body: the prior body's pi, 10 numbers (default 1 kg, 1 kg m^2: the paper's)");
+  sub->add_option("--prior", c->prior, "--body: the prior body's pi (default 1 kg, 1 kg m^2: the paper's)");
   sub->add_option("--min-explained", c->min_explained,
                   "share of the held-out mean-square error a candidate must remove to be suggested, in (0, 1)")
       ->default_val("0.02");
@@ -157,7 +157,7 @@ int ReadBodyPrior(const std::string& text, InertialParams* prior) {
     try {
       const std::vector<double> v = ParseNumberList(text, "--prior");
       if (v.size() != 10) {
-        std::cerr << "Error: --prior: " << v.size() << " numbers given, 10 expected (pi)\n";
+        std::cerr << "Error: " << NumberCountError("--prior", 10, v.size(), text) << "\n";
         return kUsage;
       }
       prior_pi = Eigen::Map<const Vector10>(v.data());

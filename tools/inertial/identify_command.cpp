@@ -34,7 +34,7 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
   sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0 (the paper: 1e-2)")->default_val("0.01");
   sub->add_option("--max-iterations", c->max_iterations, "Levenberg-Marquardt iteration cap, 1 to 100000")
       ->default_val("1000");
-  sub->add_option("--gravity", c->gravity, "gravity in the base frame, three numbers [m/s^2]")
+  sub->add_option("--gravity", c->gravity, "gravity in the base frame [m/s^2]")
       ->default_val("0 0 -9.81");
   sub->add_option("--sg-order", c->sg_order, "Savitzky-Golay polynomial order for missing qd/qdd, 2 to 10")
       ->default_val("4");

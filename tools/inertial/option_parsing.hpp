@@ -60,6 +60,15 @@ inline int ParseRealOption(const std::string& text, const char* option, double l
   return kOk;
 }
 
+// The error for an option taking `expected` numbers (numeric_options.hpp) given another count: the
+// option, the count expected, the count found and the text given, e.g.
+//   --pi: 3 numbers given, 10 expected ('1 0 0')
+inline std::string NumberCountError(const std::string& option, std::size_t expected, std::size_t given,
+                                    const std::string& text) {
+  return option + ": " + std::to_string(given) + " numbers given, " + std::to_string(expected) + " expected ('" + text +
+         "')";
+}
+
 // An output must not name an input, nor another output (formats/output_paths.hpp): kUsage with
 // the error printed, else kOk. Empty paths are not given and are skipped.
 inline int RefuseOverwritingInputs(const std::vector<PathOption>& outputs, const std::vector<PathOption>& inputs) {

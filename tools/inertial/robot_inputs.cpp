@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "exit_codes.hpp"
+#include "option_parsing.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/number_parsing.hpp"
 
@@ -13,7 +14,7 @@ int ParseGravityOption(const std::string& text, Vector3* gravity) {
   try {
     const std::vector<double> g = ParseNumberList(text, "--gravity");
     if (g.size() != 3) {
-      std::cerr << "Error: --gravity: " << g.size() << " numbers given, 3 expected\n";
+      std::cerr << "Error: " << NumberCountError("--gravity", 3, g.size(), text) << "\n";
       return kUsage;
     }
     *gravity = Vector3(g[0], g[1], g[2]);

@@ -26,7 +26,7 @@ CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* c) {
       "or one body (--body --pi).");
   sub->add_option("--model", c->model, "URDF robot model (robot data)");
   sub->add_flag("--body", c->body, "single-body data (CSV of diagnose --body); the body is --pi");
-  sub->add_option("--pi", c->pi, "--body: the body's pi, 10 numbers [m hx hy hz Ixx Iyy Izz Ixy Iyz Ixz]");
+  sub->add_option("--pi", c->pi, "--body: the body's pi [m hx hy hz Ixx Iyy Izz Ixy Iyz Ixz]");
   sub->add_option("--data", c->data, "the log (CSV) to judge the model on")->required();
   sub->add_option("--effects", c->effects,
                   "effects to add to the model's own (robots: identify's syntax, e.g. viscous@knee,offset; --body: "
@@ -195,7 +195,7 @@ int RunBody(const ValidateCommand& c, double time_scale) {
     return kUsage;
   }
   if (pi_values.size() != 10) {
-    std::cerr << "Error: --pi: " << pi_values.size() << " numbers given, 10 expected\n";
+    std::cerr << "Error: " << NumberCountError("--pi", 10, pi_values.size(), c.pi) << "\n";
     return kUsage;
   }
   const InertialParams body = InertialParams::FromVector(Eigen::Map<const Vector10>(pi_values.data()));

@@ -25,7 +25,7 @@ void AddDaemonOptions(CLI::App& app, inertial::DaemonRequest* r) {
   app.add_option("--model", r->model_path, "URDF robot description (robots)");
   app.add_flag("--body", r->body,
                "a single body on a wrench sensor: inertial.body_wrench_t messages (default channel INERTIAL_BODY_WRENCH)");
-  app.add_option("--prior", r->prior, "--body: the prior body's pi, 10 numbers (default 1 kg, 1 kg m^2 at the origin)");
+  app.add_option("--prior", r->prior, "--body: the prior body's pi (default 1 kg, 1 kg m^2 at the origin)");
   app.add_option("--can", r->can_interface, "read the motors' frames from this SocketCAN interface (e.g. can0) instead of LCM");
   app.add_option("--can-config", r->can_config, "motors.yaml for --can: which frames are which joint's, and how to decode them");
   app.add_option("--effects", r->effects, "effects beyond rigid links (syntax of `inertial identify --effects`)");

@@ -1,4 +1,5 @@
 #include "inertial/estimation/batch/identifiability.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -9,12 +10,6 @@
 namespace inertial {
 namespace {
 
-std::string Number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
-
 std::string Describe(const std::vector<std::pair<std::string, double>>& terms) {
   if (terms.size() == 1) return terms[0].first + " does not affect the torques (not excited)";
   if (terms.size() == 2) {
@@ -24,11 +19,11 @@ std::string Describe(const std::vector<std::pair<std::string, double>>& terms) {
     const double c = terms[1].second / terms[0].second;
     if (std::abs(c + 1.0) < 1e-3) return a + " and " + b + " only as their sum";
     if (std::abs(c - 1.0) < 1e-3) return a + " and " + b + " only as their difference";
-    return a + " and " + b + " only as the combination " + b + (c > 0 ? " - " : " + ") + Number(std::abs(c)) + " " + a;
+    return a + " and " + b + " only as the combination " + b + (c > 0 ? " - " : " + ") + FormatNumber(std::abs(c), 3) + " " + a;
   }
   std::string s = "moving together ";
   for (size_t i = 0; i < terms.size(); ++i) {
-    s += (i == 0 ? "" : ", ") + terms[i].first + " by " + Number(terms[i].second / terms[0].second);
+    s += (i == 0 ? "" : ", ") + terms[i].first + " by " + FormatNumber(terms[i].second / terms[0].second, 3);
   }
   return s + " leaves every torque unchanged";
 }

@@ -1,6 +1,7 @@
 #include "inertial/estimation/batch/robust_identification.hpp"
 
 #include "inertial/signal/robust_statistics.hpp"
+#include "inertial/model/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,14 +21,8 @@ constexpr double kExtremeScales = 1e6;        // DescribeExtremeValues (header)
 constexpr double kExtremeRelativeFloor = 1e-6;
 constexpr int kReasonRows = 5;                // rejected rows explained in OutlierReport::reasons
 
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.4g", value);
-  return text;
-}
-
 std::string Where(const JointSamples& data, int i) {
-  return "sample " + std::to_string(i) + " (t = " + Number(data.t[i]) + " s)";
+  return "sample " + std::to_string(i) + " (t = " + FormatNumber(data.t[i], 4) + " s)";
 }
 
 const char* const kColumnPrefixes[] = {"q_", "qd_", "qdd_", "tau_"};
@@ -66,7 +61,7 @@ std::string LargestMotionValue(const JointSamples& data, int i) {
       }
     }
   }
-  return kColumnPrefixes[best_kind] + data.joint_names[best_joint] + " = " + Number(ColumnBlock(data, best_kind)(i, best_joint));
+  return kColumnPrefixes[best_kind] + data.joint_names[best_joint] + " = " + FormatNumber(ColumnBlock(data, best_kind)(i, best_joint), 4);
 }
 
 /// Residuals A_i w - tau_i (one row per entry of `rows`); the regressor of a row whose values are
@@ -143,8 +138,8 @@ Classification Classify(const JointSamples& data, const std::vector<int>& candid
     c.rejected.push_back(i);
     if (static_cast<int>(c.reasons.size()) < kReasonRows) {
       c.reasons.push_back(Where(data, i) + ": residual of the " + model_name + " on " + data.joint_names[worst] + " " +
-                          Number(r[worst]) + " (median " + Number(c.center[worst]) + "), beyond k s = " + Number(k) +
-                          " x " + Number(c.scale[worst]) + " = " + Number(k * c.scale[worst]));
+                          FormatNumber(r[worst], 4) + " (median " + FormatNumber(c.center[worst], 4) + "), beyond k s = " + FormatNumber(k, 4) +
+                          " x " + FormatNumber(c.scale[worst], 4) + " = " + FormatNumber(k * c.scale[worst], 4));
     }
   }
   return c;
@@ -336,10 +331,10 @@ std::vector<std::string> DescribeExtremeValues(const JointSamples& data, int max
     if (static_cast<int>(out.size()) >= max_items) break;
     const double v = ColumnBlock(data, item.kind)(item.sample, item.joint);
     std::string text = "sample " + std::to_string(item.sample) +
-                       (item.sample < data.t.size() ? " (t = " + Number(data.t[item.sample]) + " s)" : std::string()) +
-                       ": " + kColumnPrefixes[item.kind] + data.joint_names[item.joint] + " = " + Number(v);
+                       (item.sample < data.t.size() ? " (t = " + FormatNumber(data.t[item.sample], 4) + " s)" : std::string()) +
+                       ": " + kColumnPrefixes[item.kind] + data.joint_names[item.joint] + " = " + FormatNumber(v, 4);
     text += std::isinf(item.ratio) ? " (not finite)"
-                                   : ", " + Number(item.ratio) + " robust scales from the column's median " + Number(item.median);
+                                   : ", " + FormatNumber(item.ratio, 4) + " robust scales from the column's median " + FormatNumber(item.median, 4);
     out.push_back(text);
   }
   return out;
