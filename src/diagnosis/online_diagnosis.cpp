@@ -11,7 +11,7 @@
 #include "inertial/diagnosis/candidate_ranking.hpp"
 #include "inertial/diagnosis/departure_margins.hpp"
 #include "inertial/diagnosis/explained_error.hpp"
-#include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/covariance_uncertainty.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/nearest_consistent.hpp"
 
@@ -99,28 +99,26 @@ std::vector<OnlineBodyState> OnlineBodyStates(const RobotDynamics& model, const 
                                               const Eigen::MatrixXd& P, bool linear) {
   std::vector<OnlineBodyState> out;
   const bool covariance = P.rows() == x.size() && P.cols() == x.size() && x.size() > 0;
+  // The estimate, the covariance of its pi and its standard deviations (covariance_uncertainty.hpp).
+  const CovarianceUncertainty u = covariance ? UncertaintyFromCovariance(model, x, P, linear) : CovarianceUncertainty{};
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const EstimatedBody& body = model.bodies()[e];
     OnlineBodyState s;
     s.name = body.name;
     s.link = body.name.rfind("rotor@", 0) != 0 && body.name.rfind("payload@", 0) != 0;
-    Eigen::VectorXd x_prior = x;
     if (linear) {
       s.estimate = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
       s.prior = body.prior;
-      if (covariance) s.pi_covariance = P.block<10, 10>(10 * body.tree_body, 10 * body.tree_body);
     } else {
       s.estimate = model.BodyInertia(e, x);
+      Eigen::VectorXd x_prior = x;
       x_prior.segment<10>(10 * e).setZero();
       s.prior = model.BodyInertia(e, x_prior);
-      if (covariance) {
-        Matrix10 J;
-        body.map.ToPi(x.segment<10>(10 * e), &J);
-        const Matrix10 L = ReportFrameMap(body);
-        s.pi_covariance = L * J * P.block<10, 10>(10 * e, 10 * e) * J.transpose() * L.transpose();
-      }
     }
-    if (covariance && s.estimate.mass() > 0.0) s.std = UncertaintyOf(s.estimate, s.pi_covariance);
+    if (covariance) {
+      s.pi_covariance = u.body_pi_covariance[e];
+      s.std = u.body_stds[e];
+    }
     out.push_back(s);
   }
   return out;
