@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "inertial/diagnosis/candidate_ranking.hpp"
 #include "inertial/diagnosis/explained_error.hpp"
 
 namespace inertial {
@@ -167,17 +168,18 @@ BodyDiagnosis Diagnose(const InertialParams& prior, const std::vector<BodyEffect
     r.values = model.EffectValues(static_cast<int>(with.size()) - 1, j.fit.x);
     out.candidates.push_back(r);
   }
-  std::stable_sort(out.candidates.begin(), out.candidates.end(), [](const BodyCandidateResult& a, const BodyCandidateResult& b) {
-    return a.evidence.group() != b.evidence.group() ? a.evidence.group() < b.evidence.group()
-                                                    : a.evidence.score > b.evidence.score;
-  });
-  int suggested = 0;
-  while (suggested < static_cast<int>(out.candidates.size()) && out.candidates[suggested].evidence.suggested()) {
-    ++suggested;
-  }
+  // Ranked as candidate_ranking.hpp says (no near-ties or alternatives measured for a single body).
   // The model's own fit on the whole log must have converged (a fold fit that did not only makes
   // its block's prediction worse, which weakens the evidence, not the judgement).
-  out.num_suggestions = b.fit.lm.converged() ? suggested : 0;
+  std::vector<CandidateEvidence> evidence;
+  for (const BodyCandidateResult& r : out.candidates) evidence.push_back(r.evidence);
+  RankingOptions ranking;
+  ranking.model_converged = b.fit.lm.converged();
+  const CandidateRanking ranked = RankCandidates(evidence, ranking);
+  std::vector<BodyCandidateResult> sorted;
+  for (int i : ranked.order) sorted.push_back(std::move(out.candidates[i]));
+  out.candidates = std::move(sorted);
+  out.num_suggestions = ranked.num_suggestions;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "inertial/diagnosis/candidate_ranking.hpp"
 #include "inertial/diagnosis/explained_error.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/diagnosis/friction_shape.hpp"
@@ -418,36 +419,31 @@ void PrepareStatistics(const RobotModelFactory& make, const std::vector<EffectSp
   p.retraced = RetracedShare(train, validation);
 }
 
-JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
-                        const std::vector<std::string>& payload_links, const JointSamples& train,
-                        const JointSamples& validation, const JointDiagnosisOptions& options, Prepared* prepared) {
-  const auto start = std::chrono::steady_clock::now();
-  JointDiagnosis out;
-  out.effects = effects;
-  if (!(options.prior_tolerance > 0.0) || !std::isfinite(options.prior_tolerance)) {
-    throw std::invalid_argument("diagnosis: the prior tolerance must be a positive number, not " +
-                                std::to_string(options.prior_tolerance));
-  }
-  out.prior_tolerance = options.prior_tolerance;
-  const RobotDynamics base = make(effects);
-  if (base.num_dofs() == 0) throw std::invalid_argument("diagnosis: the robot has no moving joint");
-  if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
-    throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
-                                std::to_string(static_cast<long>(train.size()) * base.num_dofs()) +
-                                " torque equations, fewer than the model's " + std::to_string(base.num_parameters()) +
-                                " parameters");
-  }
-
-  // The candidates: every catalog effect the model lacks.
-  std::set<std::pair<EffectKind, std::string>> present;
+// The candidates of one diagnosis: every catalog effect the model lacks (payloads on the links the
+// options name when links are held; with free links they come after the model's fit).
+struct CandidateList {
+  std::vector<EffectSpec> specs;
+  std::vector<std::optional<EffectSpec>> replaces;  // per candidate: the friction form it replaces
   std::set<std::string> payloads_present;
+};
+
+EffectSpec PayloadCandidate(const std::string& link) {
+  EffectSpec s;
+  s.kind = EffectKind::kPayload;
+  s.target = link;
+  s.text = "payload@" + link;
+  return s;
+}
+
+CandidateList ListCandidates(const RobotDynamics& base, const std::vector<EffectSpec>& effects,
+                             const std::vector<std::string>& payload_links, const JointDiagnosisOptions& options,
+                             const Prepared& data) {
+  CandidateList list;
+  std::set<std::pair<EffectKind, std::string>> present;
   for (const EffectTerm& t : base.effects()) present.insert({t.kind, t.joint});
   for (const EffectSpec& s : effects) {
-    if (s.kind == EffectKind::kPayload) payloads_present.insert(s.target);
+    if (s.kind == EffectKind::kPayload) list.payloads_present.insert(s.target);
   }
-  Prepared local;
-  Prepared& data = prepared != nullptr ? *prepared : local;
-  if (!data.shapes_fitted) FitFrictionShapes(make, effects, options.joint_kinds, train, &data);
   // The dry-friction form present on each joint (at most one is ever added; a user's list may
   // hold more, and then no other is offered there).
   std::map<std::string, EffectSpec> friction_of;
@@ -456,8 +452,6 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
     if (!IsDryFriction(e.kind)) continue;
     if (!friction_of.emplace(e.target, e).second) friction_stacked.insert(e.target);
   }
-  std::vector<EffectSpec> candidates;
-  std::vector<std::optional<EffectSpec>> replaces;  // per candidate: the friction form it replaces
   for (const std::string& joint : base.dof_names()) {
     for (EffectKind kind : options.joint_kinds) {
       if (!IsJointEffect(kind) || present.count({kind, joint}) > 0) continue;
@@ -480,50 +474,51 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
         if (!shaped) continue;
         s = *shaped;
       }
-      candidates.push_back(s);
-      replaces.push_back(replaced);
+      list.specs.push_back(s);
+      list.replaces.push_back(replaced);
     }
   }
-  // Payload candidates come after the model's fit (with free links, only on links it bends).
-  const auto payload_candidate = [&](const std::string& link) {
-    EffectSpec s;
-    s.kind = EffectKind::kPayload;
-    s.target = link;
-    s.text = "payload@" + link;
-    return s;
-  };
   if (options.hold_links) {
     for (const std::string& link : payload_links) {
-      if (payloads_present.count(link) == 0) {
-        candidates.push_back(payload_candidate(link));
-        replaces.emplace_back();
+      if (list.payloads_present.count(link) == 0) {
+        list.specs.push_back(PayloadCandidate(link));
+        list.replaces.emplace_back();
       }
     }
   }
+  return list;
+}
 
-  // Every candidate model must be determined by the training data: more torque equations than the
-  // parameters of the largest one (the model with a payload or a spring added).
-  {
-    int largest = 0;
-    for (const EffectSpec& c : candidates) largest = std::max(largest, CandidateParameters(c.kind));
-    if (options.hold_links || options.payloads) largest = std::max(largest, CandidateParameters(EffectKind::kPayload));
-    const long equations = static_cast<long>(train.size()) * base.num_dofs();
-    if (equations <= base.num_parameters() + largest) {
-      throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
-                                  std::to_string(equations) + " torque equations, too few for the " +
-                                  std::to_string(base.num_parameters() + largest) +
-                                  " parameters of the largest model tested (give a longer log)");
-    }
+// Every candidate model must be determined by the training data: more torque equations than the
+// parameters of the largest one (the model with a payload or a spring added).
+void CheckDetermined(const RobotDynamics& base, const CandidateList& list, int train_samples,
+                     const JointDiagnosisOptions& options) {
+  int largest = 0;
+  for (const EffectSpec& c : list.specs) largest = std::max(largest, CandidateParameters(c.kind));
+  if (options.hold_links || options.payloads) largest = std::max(largest, CandidateParameters(EffectKind::kPayload));
+  const long equations = static_cast<long>(train_samples) * base.num_dofs();
+  if (equations <= base.num_parameters() + largest) {
+    throw std::invalid_argument("diagnosis: " + std::to_string(train_samples) + " training samples give " +
+                                std::to_string(equations) + " torque equations, too few for the " +
+                                std::to_string(base.num_parameters() + largest) +
+                                " parameters of the largest model tested (give a longer log)");
   }
-  // One model with every joint candidate: its features hold every model's features.
-  std::vector<EffectSpec> catalog_effects = effects;
-  for (const EffectSpec& s : candidates) {
-    if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
-  }
-  const int threads = options.threads > 0 ? options.threads
-                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, threads, &data);
-  auto features_of = [&](const RobotDynamics& m) {
+}
+
+std::unordered_map<std::string, double> NamedParameters(const RobotDynamics& m, const Eigen::VectorXd& x) {
+  std::unordered_map<std::string, double> v;
+  const std::vector<std::string> names = m.ParameterNames();
+  for (int i = 0; i < static_cast<int>(names.size()); ++i) v[names[i]] = x[i];
+  return v;
+}
+
+// How the models of one diagnosis are set up and fitted on the prepared statistics.
+struct Fitter {
+  const RobotModelFactory& make;
+  const JointDiagnosisOptions& options;
+  const Prepared& data;
+
+  std::vector<int> FeaturesOf(const RobotDynamics& m) const {
     std::vector<int> index;
     for (const std::string& name : m.FeatureNames()) {
       const auto it = data.index.find(name);
@@ -531,89 +526,19 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
       index.push_back(it->second);
     }
     return index;
-  };
-  const JointNormalEquations& train_eq = data.train_eq;
-  const std::vector<JointNormalEquations>& validation_eq = data.validation_eq;
-  out.train_samples = train.size();
-  out.validation_samples = validation.size();
-
-  // The model itself, and (when it has effects) the links alone, fitted side by side.
-  std::vector<Job> base_job(effects.empty() ? 1 : 2);
-  base_job[0].model.emplace(base);
-  base_job[0].features = features_of(base);
-  base_job[0].options = options.fit;
-  base_job[0].tolerance = options.prior_tolerance;
-  base_job[0].options.frozen_bodies = FrozenBodies(base, options.hold_links, HeldLinks(effects));
-  if (!effects.empty()) {
-    Job& links = base_job[1];
-    links.model.emplace(make({}));
-    links.features = features_of(*links.model);
-    links.options = options.fit;
-    links.tolerance = options.prior_tolerance;
-    links.options.frozen_bodies = FrozenBodies(*links.model, options.hold_links);
   }
-  RunJobs(base_job, train_eq, validation_eq, threads);
-  out.frozen_bodies = base_job[0].options.frozen_bodies;
-  out.fit = base_job[0].fit;
-  out.fit_validation = base_job[0].validation;
-  out.plausibility = base_job[0].plausibility;
-  out.links = LinkBodies(base);
-  for (const EstimatedBody& b : base.bodies()) out.body_names.push_back(b.name);
-  out.implausibility = LinksImplausibility(out.plausibility, out.links, options.prior_tolerance);
-  out.residual_tau = data.residual_tau;
-  out.retraced = data.retraced;
-  if (out.retraced >= kRetracedShare) {
-    out.notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out.retraced))) +
-                        " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
-                        "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
-                        "validate on a different trajectory");
-  }
-  // Free links: a link the fit bends beyond the tolerance may carry a payload.
-  std::set<std::string> payload_tests;
-  if (!options.hold_links && options.payloads) {
-    const std::set<std::string> allowed(payload_links.begin(), payload_links.end());
-    for (size_t e = 0; e < base.bodies().size(); ++e) {
-      const std::string& name = base.bodies()[e].name;
-      if (out.links[e] && !out.plausibility[e].Within(options.prior_tolerance) && allowed.count(name) > 0 &&
-          payloads_present.count(name) == 0) {
-        candidates.push_back(payload_candidate(name));
-        replaces.emplace_back();
-        payload_tests.insert(name);
-      }
-    }
-  }
-  {
-    // The URDF's own prediction: its links alone (no payload or rotor priors, no effects).
-    const RobotDynamics links = make({});
-    std::vector<JointNormalEquations> v;
-    for (const JointNormalEquations& e : validation_eq) v.push_back(Restrict(e, features_of(links)));
-    out.prior_validation = ErrorsFromNormalEquations(v, links.Coefficients(Eigen::VectorXd::Zero(links.num_parameters())));
-    std::vector<JointNormalEquations> t;
-    for (const JointNormalEquations& e : data.train_jointwise) t.push_back(Restrict(e, features_of(base)));
-    out.fit_train = ErrorsFromNormalEquations(t, base.Coefficients(out.fit.x));
-  }
-  if (!std::isfinite(out.fit_validation.total_rms) || !std::isfinite(out.prior_validation.total_rms)) {
-    throw std::invalid_argument("diagnosis: the model's torques are not finite numbers (check gravity, units and "
-                                "the data's magnitudes)");
-  }
-
-  if (!effects.empty()) out.links_only_validation = base_job[1].validation;
-
-  // Each candidate on its own, warm-started from the model's fit.
-  auto named = [](const RobotDynamics& m, const Eigen::VectorXd& x) {
-    std::unordered_map<std::string, double> v;
-    const std::vector<std::string> names = m.ParameterNames();
-    for (int i = 0; i < static_cast<int>(names.size()); ++i) v[names[i]] = x[i];
-    return v;
-  };
-  const std::unordered_map<std::string, double> base_x = named(base, out.fit.x);
-  auto setup = [&](Job& job, const std::vector<EffectSpec>& with, const std::unordered_map<std::string, double>& warm) {
-    job.model.emplace(make(with));
-    job.features = features_of(*job.model);
+  // `model` with `effects` (its payloads' links held), with the options' fit.
+  void Setup(Job& job, const RobotDynamics& model, const std::vector<EffectSpec>& with) const {
+    job.model.emplace(model);
+    job.features = FeaturesOf(*job.model);
     job.options = options.fit;
     job.tolerance = options.prior_tolerance;
     job.options.frozen_bodies = FrozenBodies(*job.model, options.hold_links, HeldLinks(with));
-    const JointNormalEquations eq = Restrict(train_eq, job.features);
+  }
+  // The model with `with`, warm-started from the parameters `warm` names.
+  void SetupWarm(Job& job, const std::vector<EffectSpec>& with, const std::unordered_map<std::string, double>& warm) const {
+    Setup(job, make(with), with);
+    const JointNormalEquations eq = Restrict(data.train_eq, job.features);
     job.options.initial = DefaultInitialParameters(*job.model, eq, job.options.frozen_bodies);
     const std::vector<std::string> names = job.model->ParameterNames();
     for (int i = 0; i < static_cast<int>(names.size()); ++i) {
@@ -624,119 +549,223 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
       const bool held = i < 10 * static_cast<int>(frozen.size()) && frozen[i / 10];
       job.options.initial[i] = held ? 0.0 : it->second;
     }
-  };
-  std::vector<Job> jobs(candidates.size());
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    setup(jobs[c], WithCandidate(effects, base.dof_names(), candidates[c], replaces[c]), base_x);
   }
-  RunJobs(jobs, train_eq, validation_eq, options.threads);
+  void Run(std::vector<Job>& jobs, int threads) const { RunJobs(jobs, data.train_eq, data.validation_eq, threads); }
+};
 
+// The model itself, and (when it has effects) the links alone, fitted side by side; the model's
+// plausibility, reference errors and notes into `out`.
+void FitTheModel(const Fitter& fitter, const RobotDynamics& base, const std::vector<EffectSpec>& effects, int threads,
+                 JointDiagnosis* out) {
+  const JointDiagnosisOptions& options = fitter.options;
+  std::vector<Job> base_job(effects.empty() ? 1 : 2);
+  fitter.Setup(base_job[0], base, effects);
+  if (!effects.empty()) fitter.Setup(base_job[1], fitter.make({}), {});
+  fitter.Run(base_job, threads);
+  out->frozen_bodies = base_job[0].options.frozen_bodies;
+  out->fit = base_job[0].fit;
+  out->fit_validation = base_job[0].validation;
+  out->plausibility = base_job[0].plausibility;
+  out->links = LinkBodies(base);
+  for (const EstimatedBody& b : base.bodies()) out->body_names.push_back(b.name);
+  out->implausibility = LinksImplausibility(out->plausibility, out->links, options.prior_tolerance);
+  out->residual_tau = fitter.data.residual_tau;
+  out->retraced = fitter.data.retraced;
+  if (out->retraced >= kRetracedShare) {
+    out->notes.push_back(std::to_string(static_cast<int>(std::lround(100 * out->retraced))) +
+                         " % of the held-out samples retrace the training trajectory (within 1 % of every joint's "
+                         "range of q and qd): this validation cannot reveal effects that only fit this excitation; "
+                         "validate on a different trajectory");
+  }
+  {
+    // The URDF's own prediction: its links alone (no payload or rotor priors, no effects).
+    const RobotDynamics links = fitter.make({});
+    std::vector<JointNormalEquations> v;
+    for (const JointNormalEquations& e : fitter.data.validation_eq) v.push_back(Restrict(e, fitter.FeaturesOf(links)));
+    out->prior_validation =
+        ErrorsFromNormalEquations(v, links.Coefficients(Eigen::VectorXd::Zero(links.num_parameters())));
+    std::vector<JointNormalEquations> t;
+    for (const JointNormalEquations& e : fitter.data.train_jointwise) t.push_back(Restrict(e, fitter.FeaturesOf(base)));
+    out->fit_train = ErrorsFromNormalEquations(t, base.Coefficients(out->fit.x));
+  }
+  if (!std::isfinite(out->fit_validation.total_rms) || !std::isfinite(out->prior_validation.total_rms)) {
+    throw std::invalid_argument("diagnosis: the model's torques are not finite numbers (check gravity, units and "
+                                "the data's magnitudes)");
+  }
+  if (!effects.empty()) out->links_only_validation = base_job[1].validation;
+}
+
+// Free links: a link the fit bends beyond the tolerance may carry a payload.
+void AddBentLinkPayloads(const RobotDynamics& base, const std::vector<std::string>& payload_links,
+                         const JointDiagnosisOptions& options, const JointDiagnosis& out, CandidateList* list) {
+  if (options.hold_links || !options.payloads) return;
+  const std::set<std::string> allowed(payload_links.begin(), payload_links.end());
+  for (size_t e = 0; e < base.bodies().size(); ++e) {
+    const std::string& name = base.bodies()[e].name;
+    if (out.links[e] && !out.plausibility[e].Within(options.prior_tolerance) && allowed.count(name) > 0 &&
+        list->payloads_present.count(name) == 0) {
+      list->specs.push_back(PayloadCandidate(name));
+      list->replaces.emplace_back();
+    }
+  }
+}
+
+// A candidate's evidence against the model `without` (held-out errors, links' implausibility) from
+// its fitted job. A replacement adds the parameters its form has beyond the one it replaces.
+void JudgeJob(const Job& job, const EffectSpec& spec, const std::optional<EffectSpec>& replaced,
+              const TorqueErrors& without, double b_without, const Eigen::VectorXd& residual_tau, int samples,
+              const JointDiagnosisOptions& options, CandidateResult* r) {
   EvidenceRules rules;
   rules.min_explained = options.min_explained;
   rules.min_gain = options.min_gain;
   rules.prior_tolerance = options.prior_tolerance;
-  // A replacement adds the parameters its form has beyond the one it replaces.
-  auto judge = [&](const Job& job, const EffectSpec& spec, const std::optional<EffectSpec>& replaced,
-                   const TorqueErrors& without, double b_without, CandidateResult* r) {
-    r->validation = job.validation;
-    r->plausibility = job.plausibility;
-    r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
-    const int added = CandidateParameters(spec.kind) - (replaced ? CandidateParameters(replaced->kind) : 0);
-    r->evidence = JudgeCandidate(without, job.validation, out.residual_tau, validation.size(), b_without,
-                                 r->implausibility, std::max(1, added),
-                                 spec.kind == EffectKind::kSpring    ? PriorOdds::kRare
-                                 : spec.kind == EffectKind::kPayload ? PriorOdds::kOrdinary
-                                                                     : PriorOdds::kCommon,
-                                 rules);
-    r->explained = r->evidence.explained;
-  };
-  std::vector<int> job_of;
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    const Job& job = jobs[c];
-    CandidateResult r;
-    r.spec = candidates[c];
-    r.name = candidates[c].text;
-    (candidates[c].kind == EffectKind::kPayload ? r.link : r.joint) = candidates[c].target;
-    if (replaces[c]) r.replaces = EffectItem(*replaces[c]);
-    judge(job, candidates[c], replaces[c], out.fit_validation, out.implausibility, &r);
-    r.converged = job.fit.lm.converged();
-    r.iterations = job.fit.lm.iterations;
-    if (candidates[c].kind == EffectKind::kPayload) {
-      const int e = static_cast<int>(job.model->bodies().size()) - 1;  // the payload: the last body
-      const Vector10 pi = job.model->BodyInertia(e, job.fit.x).vector();
-      r.values.assign(pi.data(), pi.data() + 10);
-      if (e < static_cast<int>(job.stds.size())) r.payload_std = job.stds[e];
-    } else {
-      // The candidate's term: the one of its kind on its joint.
-      for (int k = 0; k < static_cast<int>(job.model->effects().size()); ++k) {
-        const EffectTerm& t = job.model->effects()[k];
-        if (t.kind == candidates[c].kind && t.joint == candidates[c].target) r.values = job.model->EffectValues(k, job.fit.x);
-      }
+  r->validation = job.validation;
+  r->plausibility = job.plausibility;
+  r->implausibility = LinksImplausibility(job.plausibility, LinkBodies(*job.model), options.prior_tolerance);
+  const int added = CandidateParameters(spec.kind) - (replaced ? CandidateParameters(replaced->kind) : 0);
+  r->evidence = JudgeCandidate(without, job.validation, residual_tau, samples, b_without, r->implausibility,
+                               std::max(1, added),
+                               spec.kind == EffectKind::kSpring    ? PriorOdds::kRare
+                               : spec.kind == EffectKind::kPayload ? PriorOdds::kOrdinary
+                                                                   : PriorOdds::kCommon,
+                               rules);
+  r->explained = r->evidence.explained;
+}
+
+// The result of candidate `c` fitted on its own (`job`), judged against the model.
+CandidateResult CandidateResultOf(const CandidateList& list, size_t c, const Job& job, const JointDiagnosis& out,
+                                  const JointDiagnosisOptions& options) {
+  const EffectSpec& spec = list.specs[c];
+  CandidateResult r;
+  r.spec = spec;
+  r.name = spec.text;
+  (spec.kind == EffectKind::kPayload ? r.link : r.joint) = spec.target;
+  if (list.replaces[c]) r.replaces = EffectItem(*list.replaces[c]);
+  JudgeJob(job, spec, list.replaces[c], out.fit_validation, out.implausibility, out.residual_tau,
+           out.validation_samples, options, &r);
+  r.converged = job.fit.lm.converged();
+  r.iterations = job.fit.lm.iterations;
+  if (spec.kind == EffectKind::kPayload) {
+    const int e = static_cast<int>(job.model->bodies().size()) - 1;  // the payload: the last body
+    const Vector10 pi = job.model->BodyInertia(e, job.fit.x).vector();
+    r.values.assign(pi.data(), pi.data() + 10);
+    if (e < static_cast<int>(job.stds.size())) r.payload_std = job.stds[e];
+  } else {
+    // The candidate's term: the one of its kind on its joint.
+    for (int k = 0; k < static_cast<int>(job.model->effects().size()); ++k) {
+      const EffectTerm& t = job.model->effects()[k];
+      if (t.kind == spec.kind && t.joint == spec.target) r.values = job.model->EffectValues(k, job.fit.x);
     }
-    out.candidates.push_back(std::move(r));
-    job_of.push_back(static_cast<int>(c));
   }
-  // Ranked as candidate_evidence.hpp says: by group, then score.
-  std::vector<int> order(out.candidates.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  auto ranked = [&](int a, int b) {
-    const CandidateEvidence& x = out.candidates[a].evidence;
-    const CandidateEvidence& y = out.candidates[b].evidence;
-    return x.group() != y.group() ? x.group() < y.group() : x.score > y.score;
-  };
-  std::stable_sort(order.begin(), order.end(), ranked);
-  // Alternatives: each further suggestion refitted together with the top one must still be supported
-  // against the top one alone.
-  if (!order.empty() && out.candidates[order[0]].evidence.suggested()) {
-    const int top = order[0];
-    const Job& top_job = jobs[job_of[top]];
-    const std::unordered_map<std::string, double> top_x = named(*top_job.model, top_job.fit.x);
-    std::vector<int> others;
-    for (size_t k = 1; k < order.size() && out.candidates[order[k]].evidence.suggested(); ++k) others.push_back(order[k]);
-    // Two dry-friction forms of one joint are alternatives by construction (one slot per joint).
-    const EffectSpec& top_spec = out.candidates[top].spec;
-    const std::optional<EffectSpec>& top_replaces = replaces[job_of[top]];
-    const std::vector<EffectSpec> with_top = WithCandidate(effects, base.dof_names(), top_spec, top_replaces);
-    std::vector<int> refit;
-    for (int other : others) {
-      const EffectSpec& o = out.candidates[other].spec;
+  return r;
+}
+
+// Ranked as candidate_ranking.hpp says. Alternatives to the top suggestion: each further
+// suggestion refitted together with the top one must still be supported against the top one
+// alone; two dry-friction forms of one joint are alternatives by construction (one slot per joint).
+void RankJointCandidates(const Fitter& fitter, const std::vector<EffectSpec>& effects,
+                         const std::vector<std::string>& joints, const CandidateList& list,
+                         const std::vector<Job>& jobs, JointDiagnosis* out) {
+  const JointDiagnosisOptions& options = fitter.options;
+  std::vector<CandidateResult>& candidates = out->candidates;
+  const SameAsTopTest same_as_top = [&](int top, const std::vector<int>& others) {
+    std::vector<bool> same(others.size(), false);
+    const EffectSpec& top_spec = candidates[top].spec;
+    const std::vector<EffectSpec> with_top = WithCandidate(effects, joints, top_spec, list.replaces[top]);
+    std::vector<size_t> refit;  // into others
+    for (size_t k = 0; k < others.size(); ++k) {
+      const EffectSpec& o = candidates[others[k]].spec;
       if (IsDryFriction(o.kind) && IsDryFriction(top_spec.kind) && o.target == top_spec.target) {
-        out.candidates[other].alternative_to = out.candidates[top].name;
+        same[k] = true;
       } else {
-        refit.push_back(other);
+        refit.push_back(k);
       }
     }
+    const std::unordered_map<std::string, double> top_x = NamedParameters(*jobs[top].model, jobs[top].fit.x);
     std::vector<Job> pairs(refit.size());
     for (size_t k = 0; k < refit.size(); ++k) {
-      setup(pairs[k], WithCandidate(with_top, base.dof_names(), out.candidates[refit[k]].spec, replaces[job_of[refit[k]]]),
-            top_x);
+      const int other = others[refit[k]];
+      fitter.SetupWarm(pairs[k], WithCandidate(with_top, joints, candidates[other].spec, list.replaces[other]), top_x);
     }
-    RunJobs(pairs, train_eq, validation_eq, options.threads);
+    fitter.Run(pairs, options.threads);
     for (size_t k = 0; k < refit.size(); ++k) {
+      const int other = others[refit[k]];
       CandidateResult together;
-      judge(pairs[k], out.candidates[refit[k]].spec, replaces[job_of[refit[k]]], out.candidates[top].validation,
-            out.candidates[top].implausibility, &together);
-      if (!together.evidence.suggested()) out.candidates[refit[k]].alternative_to = out.candidates[top].name;
+      JudgeJob(pairs[k], candidates[other].spec, list.replaces[other], candidates[top].validation,
+               candidates[top].implausibility, out->residual_tau, out->validation_samples, options, &together);
+      same[refit[k]] = !together.evidence.suggested();
     }
-    std::stable_partition(order.begin(), order.end(), [&](int i) {
-      return out.candidates[i].evidence.suggested() && out.candidates[i].alternative_to.empty();
-    });
+    return same;
+  };
+  std::vector<CandidateEvidence> evidence;
+  for (const CandidateResult& r : candidates) evidence.push_back(r.evidence);
+  RankingOptions ranking;
+  ranking.same_as_top = same_as_top;
+  ranking.model_converged = out->fit.lm.converged();
+  const CandidateRanking ranked = RankCandidates(evidence, ranking);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (ranked.alternative_to[i] >= 0) candidates[i].alternative_to = candidates[ranked.alternative_to[i]].name;
   }
   std::vector<CandidateResult> sorted;
-  for (int i : order) sorted.push_back(std::move(out.candidates[i]));
-  out.candidates = std::move(sorted);
-  out.num_suggestions = 0;
-  while (out.num_suggestions < static_cast<int>(out.candidates.size()) &&
-         out.candidates[out.num_suggestions].evidence.suggested() &&
-         out.candidates[out.num_suggestions].alternative_to.empty()) {
-    ++out.num_suggestions;
+  for (int i : ranked.order) sorted.push_back(std::move(candidates[i]));
+  candidates = std::move(sorted);
+  out->num_suggestions = ranked.num_suggestions;
+  if (!out->fit.lm.converged()) {
+    out->notes.push_back("the model's own fit did not converge (" + std::string(ToString(out->fit.lm.reason)) +
+                         " after " + std::to_string(out->fit.lm.iterations) +
+                         " iterations): its candidates would all look good, so none is suggested; raise the "
+                         "iteration cap");
   }
-  if (!out.fit.lm.converged()) {
-    out.num_suggestions = 0;
-    out.notes.push_back("the model's own fit did not converge (" + std::string(ToString(out.fit.lm.reason)) + " after " +
-                        std::to_string(out.fit.lm.iterations) +
-                        " iterations): its candidates would all look good, so none is suggested; raise the iteration cap");
+}
+
+JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectSpec>& effects,
+                        const std::vector<std::string>& payload_links, const JointSamples& train,
+                        const JointSamples& validation, const JointDiagnosisOptions& options, Prepared* prepared) {
+  const auto start = std::chrono::steady_clock::now();
+  JointDiagnosis out;
+  out.effects = effects;
+  if (!(options.prior_tolerance > 0.0) || !std::isfinite(options.prior_tolerance)) {
+    throw std::invalid_argument("diagnosis: the prior tolerance must be a positive number, not " +
+                                std::to_string(options.prior_tolerance));
   }
+  out.prior_tolerance = options.prior_tolerance;
+  const RobotDynamics base = make(effects);
+  if (base.num_dofs() == 0) throw std::invalid_argument("diagnosis: the robot has no moving joint");
+  if (static_cast<long>(train.size()) * base.num_dofs() < base.num_parameters()) {
+    throw std::invalid_argument("diagnosis: " + std::to_string(train.size()) + " training samples give " +
+                                std::to_string(static_cast<long>(train.size()) * base.num_dofs()) +
+                                " torque equations, fewer than the model's " + std::to_string(base.num_parameters()) +
+                                " parameters");
+  }
+  Prepared local;
+  Prepared& data = prepared != nullptr ? *prepared : local;
+  if (!data.shapes_fitted) FitFrictionShapes(make, effects, options.joint_kinds, train, &data);
+  CandidateList list = ListCandidates(base, effects, payload_links, options, data);
+  CheckDetermined(base, list, train.size(), options);
+  // One model with every joint candidate: its features hold every model's features.
+  std::vector<EffectSpec> catalog_effects = effects;
+  for (const EffectSpec& s : list.specs) {
+    if (s.kind != EffectKind::kPayload) catalog_effects.push_back(s);
+  }
+  const int threads = options.threads > 0 ? options.threads
+                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!data.catalog) PrepareStatistics(make, catalog_effects, train, validation, threads, &data);
+  out.train_samples = train.size();
+  out.validation_samples = validation.size();
+  const Fitter fitter{make, options, data};
+  FitTheModel(fitter, base, effects, threads, &out);
+  // Payload candidates come after the model's fit (with free links, only on links it bends).
+  AddBentLinkPayloads(base, payload_links, options, out, &list);
+
+  // Each candidate on its own, warm-started from the model's fit.
+  const std::unordered_map<std::string, double> base_x = NamedParameters(base, out.fit.x);
+  std::vector<Job> jobs(list.specs.size());
+  for (size_t c = 0; c < list.specs.size(); ++c) {
+    fitter.SetupWarm(jobs[c], WithCandidate(effects, base.dof_names(), list.specs[c], list.replaces[c]), base_x);
+  }
+  fitter.Run(jobs, options.threads);
+  for (size_t c = 0; c < list.specs.size(); ++c) out.candidates.push_back(CandidateResultOf(list, c, jobs[c], out, options));
+  RankJointCandidates(fitter, effects, base.dof_names(), list, jobs, &out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

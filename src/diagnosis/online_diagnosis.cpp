@@ -8,9 +8,10 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "inertial/diagnosis/candidate_ranking.hpp"
 #include "inertial/diagnosis/departure_margins.hpp"
 #include "inertial/diagnosis/explained_error.hpp"
-#include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/covariance_uncertainty.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/nearest_consistent.hpp"
 
@@ -98,28 +99,26 @@ std::vector<OnlineBodyState> OnlineBodyStates(const RobotDynamics& model, const 
                                               const Eigen::MatrixXd& P, bool linear) {
   std::vector<OnlineBodyState> out;
   const bool covariance = P.rows() == x.size() && P.cols() == x.size() && x.size() > 0;
+  // The estimate, the covariance of its pi and its standard deviations (covariance_uncertainty.hpp).
+  const CovarianceUncertainty u = covariance ? UncertaintyFromCovariance(model, x, P, linear) : CovarianceUncertainty{};
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const EstimatedBody& body = model.bodies()[e];
     OnlineBodyState s;
     s.name = body.name;
     s.link = body.name.rfind("rotor@", 0) != 0 && body.name.rfind("payload@", 0) != 0;
-    Eigen::VectorXd x_prior = x;
     if (linear) {
       s.estimate = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
       s.prior = body.prior;
-      if (covariance) s.pi_covariance = P.block<10, 10>(10 * body.tree_body, 10 * body.tree_body);
     } else {
       s.estimate = model.BodyInertia(e, x);
+      Eigen::VectorXd x_prior = x;
       x_prior.segment<10>(10 * e).setZero();
       s.prior = model.BodyInertia(e, x_prior);
-      if (covariance) {
-        Matrix10 J;
-        body.map.ToPi(x.segment<10>(10 * e), &J);
-        const Matrix10 L = ReportFrameMap(body);
-        s.pi_covariance = L * J * P.block<10, 10>(10 * e, 10 * e) * J.transpose() * L.transpose();
-      }
     }
-    if (covariance && s.estimate.mass() > 0.0) s.std = UncertaintyOf(s.estimate, s.pi_covariance);
+    if (covariance) {
+      s.pi_covariance = u.body_pi_covariance[e];
+      s.std = u.body_stds[e];
+    }
     out.push_back(s);
   }
   return out;
@@ -389,24 +388,12 @@ Eigen::VectorXd OnlineDiagnosis::WidestAutocorrelation(const RingRegression& g) 
   return tau;
 }
 
-OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyState>& bodies) const {
-  OnlineDiagnosisResult out;
-  const int N = samples();
-  out.samples = N;
-  double first = std::numeric_limits<double>::infinity(), last = -first;
-  for (int b = 0; b < options_.blocks; ++b) {
-    if (block_count_[b] == 0) continue;
-    first = std::min(first, block_first_t_[b]);
-    last = std::max(last, block_last_t_[b]);
-  }
-  out.window_seconds = N > 0 ? last - first : 0.0;
-  const Eigen::VectorXd sse0 = block_model_sse_.colwise().sum().transpose();
-  const Eigen::VectorXd tau_ss = block_tau_ss_.colwise().sum().transpose();
-  out.model = ErrorsFromSums(sse0, tau_ss, std::max(N, 1));
-  const RingRegression ring = BuildRingRegression();
-  out.autocorrelation = WidestAutocorrelation(ring);
-  // The links' plausibility against their URDF, margins from the estimator's covariance.
-  const double tolerance = options_.rules.prior_tolerance;
+namespace {
+
+// The links' plausibility against their URDF, margins from the estimator's covariance; the bent
+// links and the links' implausibility into `out`.
+std::vector<BodyPlausibility> LinksPlausibility(const std::vector<OnlineBodyState>& bodies, double tolerance,
+                                                OnlineDiagnosisResult* out) {
   std::vector<BodyPlausibility> plausibility;
   std::vector<bool> links;
   for (const OnlineBodyState& s : bodies) {
@@ -420,46 +407,16 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
     }
     plausibility.push_back(p);
     links.push_back(s.link);
-    if (s.link && !p.Within(tolerance)) out.bent_links.push_back(s.name);
+    if (s.link && !p.Within(tolerance)) out->bent_links.push_back(s.name);
   }
-  out.implausibility = LinksImplausibility(plausibility, links, tolerance);
-  if (N < options_.min_samples) {
-    out.notes.push_back("too few samples to judge (" + std::to_string(N) + " in the window, " +
-                        std::to_string(options_.min_samples) + " needed)");
-    return out;
-  }
-  const std::vector<std::string>& joints = model_.dof_names();
-  const double n = static_cast<double>(N);
-  for (size_t c = 0; c < candidates_.size(); ++c) {
-    const Candidate& k = candidates_[c];
-    Eigen::VectorXd sse = sse0;
-    sse[k.dof] = block_candidate_sse_.col(static_cast<int>(c)).sum();
-    const TorqueErrors with = ErrorsFromSums(sse, tau_ss, n);
-    OnlineCandidate oc;
-    oc.name = k.name;
-    oc.kind = k.kind;
-    oc.joint = joints[k.dof];
-    oc.item = k.item;
-    oc.replaces = k.replaces;
-    oc.rms_before = out.model.rms[k.dof];
-    oc.rms_after = with.rms[k.dof];
-    double b[2] = {0.0, 0.0};
-    const int f[2] = {k.features[0], k.features[1]};
-    const bool nonneg[2] = {k.non_negative, k.non_negative && k.kind != EffectKind::kSpring};
-    FitFromGram<2>(gram_[static_cast<size_t>(k.dof)], f, k.num_features, nonneg, b);
-    if (k.kind == EffectKind::kSpring) {
-      // k (q - q0) = k q - k q0: the constant's coefficient is -k q0.
-      oc.values = {b[0], b[0] > 0.0 ? -b[1] / b[0] : 0.0};
-    } else if (k.kind == EffectKind::kAsymmetric) {
-      oc.values = {b[0], b[1]};
-    } else {
-      oc.values = {b[0]};
-    }
-    oc.evidence = JudgeCandidate(out.model, with, out.autocorrelation, N, out.implausibility, out.implausibility,
-                                 k.parameters, k.odds, options_.rules);
-    out.candidates.push_back(oc);
-  }
-  // Payloads: a bent link that a consistent added body takes back to its URDF.
+  out->implausibility = LinksImplausibility(plausibility, links, tolerance);
+  return plausibility;
+}
+
+// Payloads: a bent link that a consistent added body takes back to its URDF.
+void AddPayloadCandidates(const std::vector<OnlineBodyState>& bodies, const std::vector<BodyPlausibility>& plausibility,
+                          const EvidenceRules& rules, OnlineDiagnosisResult* out) {
+  const double tolerance = rules.prior_tolerance;
   for (size_t e = 0; e < bodies.size(); ++e) {
     const OnlineBodyState& s = bodies[e];
     if (!s.link || plausibility[e].Within(tolerance)) continue;
@@ -471,12 +428,12 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
     InertialParams added;
     std::string why;
     if (!(s.estimate.mass() - s.prior.mass() > 0.0)) {
-      out.notes.push_back(s.name + " is bent but not heavier than its URDF: no payload candidate");
+      out->notes.push_back(s.name + " is bent but not heavier than its URDF: no payload candidate");
       continue;
     }
     if (!NearestConsistentBody(InertialParams::FromVector(s.estimate.vector() - s.prior.vector()), &added, &why) ||
         !(added.mass() > 0.0)) {
-      out.notes.push_back(s.name + ": what it carries beyond its URDF is no body (" + why + "): no payload candidate");
+      out->notes.push_back(s.name + ": what it carries beyond its URDF is no body (" + why + "): no payload candidate");
       continue;
     }
     // As the batch diagnosis tests it: the link held at its URDF, the payload carrying the rest.
@@ -489,77 +446,150 @@ OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyStat
     oc.item = oc.name;
     const Vector10 v = added.vector();
     oc.values.assign(v.data(), v.data() + 10);
-    oc.evidence = JudgeCandidate(out.model, out.model, out.autocorrelation, N, out.implausibility,
-                                 out.implausibility - (std::isfinite(excess) ? excess : kUnmeasurableExcess) + excess_after, 10,
-                                 PriorOdds::kOrdinary, options_.rules);
-    out.candidates.push_back(oc);
+    oc.evidence = JudgeCandidate(out->model, out->model, out->autocorrelation, out->samples, out->implausibility,
+                                 out->implausibility - (std::isfinite(excess) ? excess : kUnmeasurableExcess) +
+                                     excess_after,
+                                 10, PriorOdds::kOrdinary, rules);
+    out->candidates.push_back(oc);
   }
+}
+
+}  // namespace
+
+double OnlineDiagnosis::WindowSeconds() const {
+  double first = std::numeric_limits<double>::infinity(), last = -first;
+  for (int b = 0; b < options_.blocks; ++b) {
+    if (block_count_[b] == 0) continue;
+    first = std::min(first, block_first_t_[b]);
+    last = std::max(last, block_last_t_[b]);
+  }
+  return samples() > 0 ? last - first : 0.0;
+}
+
+std::vector<double> OnlineDiagnosis::CandidateValues(const Candidate& k) const {
+  double b[2] = {0.0, 0.0};
+  const int f[2] = {k.features[0], k.features[1]};
+  const bool nonneg[2] = {k.non_negative, k.non_negative && k.kind != EffectKind::kSpring};
+  FitFromGram<2>(gram_[static_cast<size_t>(k.dof)], f, k.num_features, nonneg, b);
+  // A spring: k (q - q0) = k q - k q0, the constant's coefficient is -k q0.
+  if (k.kind == EffectKind::kSpring) return {b[0], b[0] > 0.0 ? -b[1] / b[0] : 0.0};
+  if (k.kind == EffectKind::kAsymmetric) return {b[0], b[1]};
+  return {b[0]};
+}
+
+void OnlineDiagnosis::JudgeJointCandidates(const Eigen::VectorXd& sse0, const Eigen::VectorXd& tau_ss,
+                                           OnlineDiagnosisResult* out) const {
+  const std::vector<std::string>& joints = model_.dof_names();
+  const double n = static_cast<double>(out->samples);
+  for (size_t c = 0; c < candidates_.size(); ++c) {
+    const Candidate& k = candidates_[c];
+    Eigen::VectorXd sse = sse0;
+    sse[k.dof] = block_candidate_sse_.col(static_cast<int>(c)).sum();
+    const TorqueErrors with = ErrorsFromSums(sse, tau_ss, n);
+    OnlineCandidate oc;
+    oc.name = k.name;
+    oc.kind = k.kind;
+    oc.joint = joints[k.dof];
+    oc.item = k.item;
+    oc.replaces = k.replaces;
+    oc.rms_before = out->model.rms[k.dof];
+    oc.rms_after = with.rms[k.dof];
+    oc.values = CandidateValues(k);
+    oc.evidence = JudgeCandidate(out->model, with, out->autocorrelation, out->samples, out->implausibility,
+                                 out->implausibility, k.parameters, k.odds, options_.rules);
+    out->candidates.push_back(oc);
+  }
+}
+
+double OnlineDiagnosis::AddedOverTop(const Candidate& top, const Candidate& k) const {
+  const Gram& G = gram_[static_cast<size_t>(top.dof)];
+  const bool free2[2] = {false, false};
+  double b[2];
+  const double sse_top = FitFromGram<2>(G, top.features, top.num_features, free2, b);
+  int both[4] = {0, 0, 0, 0};
+  int m = 0;
+  for (int a = 0; a < top.num_features; ++a) both[m++] = top.features[a];
+  for (int a = 0; a < k.num_features; ++a) {
+    if (std::find(both, both + m, k.features[a]) == both + m) both[m++] = k.features[a];
+  }
+  const bool free4[4] = {false, false, false, false};
+  double b4[4];
+  const int f4[4] = {both[0], both[1 % m], both[2 % m], both[3 % m]};
+  const double sse_both = FitFromGram<4>(G, f4, m, free4, b4);
+  return sse_top > 0.0 ? (1.0 - sse_both / sse_top) / dofs_ : 0.0;
+}
+
+void OnlineDiagnosis::Rank(OnlineDiagnosisResult* out) const {
+  std::vector<OnlineCandidate>& all = out->candidates;  // the joint candidates (candidates_'s order), then payloads
+  const int n = static_cast<int>(all.size());
+  const int joint_candidates = static_cast<int>(candidates_.size());
+  const double margin = options_.rules.min_explained;
+  RankingOptions ranking;
   // Nested forms: asymmetric friction holds a Coulomb step (bp = bn), a spring an offset (k = 0).
   // The richer form is suggested over the simpler one on the same joint only if it removes at
   // least min_explained more of the held-out error (channel-averaged, as `explained`): otherwise
   // it is the simpler one's alternative. (Prequentially the richer form can win by a little what
   // the links, not refitted here, leave unevenly: a near-tie goes to the simpler effect.)
-  for (OnlineCandidate& rich : out.candidates) {
+  ranking.near_tie_simpler.assign(static_cast<size_t>(n), -1);
+  for (int r = 0; r < n; ++r) {
+    const OnlineCandidate& rich = all[r];
     const EffectKind simpler = rich.kind == EffectKind::kAsymmetric ? EffectKind::kCoulomb
                                : rich.kind == EffectKind::kSpring   ? EffectKind::kOffset
                                                                     : rich.kind;
     if (simpler == rich.kind) continue;
-    for (const OnlineCandidate& simple : out.candidates) {
-      if (simple.kind != simpler || simple.joint != rich.joint || !simple.evidence.suggested()) continue;
+    for (int s = 0; s < n; ++s) {
+      const OnlineCandidate& simple = all[s];
+      if (simple.kind != simpler || simple.joint != rich.joint) continue;
       const double added = ExplainedShare(Eigen::VectorXd::Constant(1, simple.rms_after),
                                           Eigen::VectorXd::Constant(1, rich.rms_after)) /
                            dofs_;
-      if (added < options_.rules.min_explained) rich.alternative_to = simple.name;
+      if (added < margin) ranking.near_tie_simpler[r] = s;
     }
   }
-  auto before = [](const OnlineCandidate& a, const OnlineCandidate& b) {
-    const bool sa = a.evidence.suggested() && a.alternative_to.empty();
-    const bool sb = b.evidence.suggested() && b.alternative_to.empty();
-    if (sa != sb) return sa;
-    if (a.evidence.group() != b.evidence.group()) return a.evidence.group() < b.evidence.group();
-    return a.evidence.score > b.evidence.score;
-  };
-  std::stable_sort(out.candidates.begin(), out.candidates.end(), before);
   // Alternatives: a later suggestion on the top one's joint that, fitted together with it on that
   // joint's residual, removes less than min_explained more (in the same channel-averaged units as
-  // `explained`) explains the same residual: shown as its alternative, not suggested.
-  auto index_of = [&](const std::string& name) -> int {
-    for (size_t k = 0; k < candidates_.size(); ++k) {
-      if (candidates_[k].name == name) return static_cast<int>(k);
+  // `explained`) explains the same residual. Payloads are not tested.
+  ranking.same_as_top = [&](int top, const std::vector<int>& others) {
+    std::vector<bool> same(others.size(), false);
+    if (top >= joint_candidates) return same;
+    const Candidate& t = candidates_[static_cast<size_t>(top)];
+    for (size_t i = 0; i < others.size(); ++i) {
+      if (others[i] >= joint_candidates) continue;
+      const Candidate& k = candidates_[static_cast<size_t>(others[i])];
+      same[i] = k.dof == t.dof && AddedOverTop(t, k) < margin;
     }
-    return -1;
+    return same;
   };
-  const int t = out.candidates.empty() || !out.candidates[0].evidence.suggested() ? -1 : index_of(out.candidates[0].name);
-  if (t >= 0) {
-    const Candidate& top = candidates_[static_cast<size_t>(t)];
-    for (size_t i = 1; i < out.candidates.size(); ++i) {
-      OnlineCandidate& oc = out.candidates[i];
-      const int c = index_of(oc.name);
-      if (!oc.evidence.suggested() || c < 0) continue;
-      const Candidate& k = candidates_[static_cast<size_t>(c)];
-      if (k.dof != top.dof) continue;
-      const Gram& G = gram_[static_cast<size_t>(top.dof)];
-      const bool free2[2] = {false, false};
-      double b[2];
-      const double sse_top = FitFromGram<2>(G, top.features, top.num_features, free2, b);
-      int both[4];
-      int m = 0;
-      for (int a = 0; a < top.num_features; ++a) both[m++] = top.features[a];
-      for (int a = 0; a < k.num_features; ++a) {
-        if (std::find(both, both + m, k.features[a]) == both + m) both[m++] = k.features[a];
-      }
-      const bool free4[4] = {false, false, false, false};
-      double b4[4];
-      const int f4[4] = {both[0], both[1 % m], both[2 % m], both[3 % m]};
-      const double sse_both = FitFromGram<4>(G, f4, m, free4, b4);
-      const double added = sse_top > 0.0 ? (1.0 - sse_both / sse_top) / dofs_ : 0.0;
-      if (added < options_.rules.min_explained) oc.alternative_to = out.candidates[0].name;
-    }
+  std::vector<CandidateEvidence> evidence;
+  for (const OnlineCandidate& oc : all) evidence.push_back(oc.evidence);
+  const CandidateRanking ranked = RankCandidates(evidence, ranking);
+  for (int i = 0; i < n; ++i) {
+    if (ranked.alternative_to[i] >= 0) all[i].alternative_to = all[ranked.alternative_to[i]].name;
   }
-  std::stable_sort(out.candidates.begin(), out.candidates.end(), before);
-  for (const OnlineCandidate& oc : out.candidates) {
-    if (oc.evidence.suggested() && oc.alternative_to.empty()) ++out.num_suggestions;
+  std::vector<OnlineCandidate> sorted;
+  for (int i : ranked.order) sorted.push_back(std::move(all[i]));
+  all = std::move(sorted);
+  out->num_suggestions = ranked.num_suggestions;
+}
+
+OnlineDiagnosisResult OnlineDiagnosis::Evaluate(const std::vector<OnlineBodyState>& bodies) const {
+  OnlineDiagnosisResult out;
+  const int N = samples();
+  out.samples = N;
+  out.window_seconds = WindowSeconds();
+  const Eigen::VectorXd sse0 = block_model_sse_.colwise().sum().transpose();
+  const Eigen::VectorXd tau_ss = block_tau_ss_.colwise().sum().transpose();
+  out.model = ErrorsFromSums(sse0, tau_ss, std::max(N, 1));
+  out.autocorrelation = WidestAutocorrelation(BuildRingRegression());
+  const std::vector<BodyPlausibility> plausibility = LinksPlausibility(bodies, options_.rules.prior_tolerance, &out);
+  if (N < options_.min_samples) {
+    out.notes.push_back("too few samples to judge (" + std::to_string(N) + " in the window, " +
+                        std::to_string(options_.min_samples) + " needed)");
+    return out;
   }
+  JudgeJointCandidates(sse0, tau_ss, &out);
+  AddPayloadCandidates(bodies, plausibility, options_.rules, &out);
+  Rank(&out);
   return out;
 }
 

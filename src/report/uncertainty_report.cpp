@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "inertial/estimation/covariance_uncertainty.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/report/identification_report.hpp"
 #include "inertial/model/number_text.hpp"
@@ -47,49 +48,13 @@ std::optional<ModelUncertainty> FromOnlineEstimator(const OnlineJointEstimator& 
   }
   const Eigen::MatrixXd P = estimator.estimator().Covariance();
   if (P.size() == 0) return std::nullopt;
-  const RobotDynamics& model = estimator.model();
+  // The standard deviations themselves are the core's (covariance_uncertainty.hpp).
+  const CovarianceUncertainty c = UncertaintyFromCovariance(estimator.model(), estimator.estimator().parameters(), P,
+                                                            estimator.kind() == EstimatorKind::kLinearRls);
   ModelUncertainty u;
   u.source = "from the " + std::string(ToString(estimator.kind())) + " estimator's covariance";
-  const bool linear = estimator.kind() == EstimatorKind::kLinearRls;
-  const Eigen::VectorXd& x = estimator.estimator().parameters();
-  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const EstimatedBody& body = model.bodies()[e];
-    Matrix10 C;
-    InertialParams pi;
-    if (linear) {  // x = w: the tree body's pi and its covariance block directly
-      C = P.block<10, 10>(10 * body.tree_body, 10 * body.tree_body);
-      pi = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
-    } else {
-      Matrix10 J;
-      body.map.ToPi(x.segment<10>(10 * e), &J);
-      const Matrix10 L = ReportFrameMap(body);
-      C = L * J * P.block<10, 10>(10 * e, 10 * e) * J.transpose() * L.transpose();
-      pi = model.BodyInertia(e, x);
-    }
-    u.bodies.push_back(pi.mass() > 0 ? UncertaintyOf(pi, C) : BodyUncertainty{});
-  }
-  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-    const EffectTerm& t = model.effects()[k];
-    std::vector<double> stds;
-    if (linear) {  // coefficients are w itself; a spring's q0 = w1 / w0 to first order
-      const int f = t.first_feature;
-      stds.push_back(std::sqrt(std::max(0.0, P(f, f))));
-      if (t.kind == EffectKind::kAsymmetric) stds.push_back(std::sqrt(std::max(0.0, P(f + 1, f + 1))));
-      if (t.kind == EffectKind::kSpring) {
-        const double k0 = x[f], kq = x[f + 1];
-        Eigen::Vector2d g(-kq / (k0 * k0), 1.0 / k0);
-        stds.push_back(std::sqrt(std::max(0.0, g.dot(P.block<2, 2>(f, f) * g))));
-      }
-    } else {
-      const int p = t.first_parameter;
-      const std::vector<double> v = model.EffectValues(k, x);
-      const double sd = std::sqrt(std::max(0.0, P(p, p)));
-      stds.push_back(t.kind == EffectKind::kOffset ? sd : v[0] * sd);  // b = e^s: db = b ds
-      if (t.kind == EffectKind::kSpring) stds.push_back(std::sqrt(std::max(0.0, P(p + 1, p + 1))));
-      if (t.kind == EffectKind::kAsymmetric) stds.push_back(v[1] * std::sqrt(std::max(0.0, P(p + 1, p + 1))));
-    }
-    u.effects.push_back(stds);
-  }
+  u.bodies = c.body_stds;
+  u.effects = c.effects;
   return u;
 }
 

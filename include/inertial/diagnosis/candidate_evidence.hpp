@@ -71,6 +71,8 @@
 /// how much plausibility a candidate restores also depends on how the other missing effects bend
 /// the links (a viscous term can straighten part of what Coulomb friction bent), so it decides only
 /// where the held-out data cannot.
+/// candidate_ranking.hpp applies this ranking (with the near-ties and alternatives the diagnoses
+/// measure) for every diagnosis, batch and online.
 #pragma once
 
 #include <Eigen/Core>

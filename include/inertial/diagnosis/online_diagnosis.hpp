@@ -172,6 +172,15 @@ class OnlineDiagnosis {
   };
   RingRegression BuildRingRegression() const;
   Eigen::VectorXd WidestAutocorrelation(const RingRegression& g) const;
+  // The steps of Evaluate: the time the judged samples span; a joint candidate's coefficients
+  // from its joint's Gram matrix; every joint candidate judged on the window; the share of the
+  // held-out error `k` removes beyond `top` (same joint) fitted together; the ranking
+  // (candidate_ranking.hpp) with the near-ties and alternatives measured here.
+  double WindowSeconds() const;
+  std::vector<double> CandidateValues(const Candidate& k) const;
+  void JudgeJointCandidates(const Eigen::VectorXd& sse0, const Eigen::VectorXd& tau_ss, OnlineDiagnosisResult* out) const;
+  double AddedOverTop(const Candidate& top, const Candidate& k) const;
+  void Rank(OnlineDiagnosisResult* out) const;
 
   RobotDynamics model_;
   OnlineDiagnosisOptions options_;

@@ -1,10 +1,11 @@
 /// @file uncertainty_report.hpp
 /// One presentation of how sure each number is, for batch fits (fit_uncertainty.hpp: the fit's
-/// curvature, the noise from the residual) and online estimates (the estimator's covariance through
-/// UncertaintyOf, parameter_layout.hpp): standard deviations of mass, COM and the inertia about the
-/// COM of every body, and of every effect coefficient, with the quantities the prior rather than
-/// the data determines labelled "held by the prior". As text, as JSON, and as the comments a model
-/// file carries (model_file.hpp). Units: kg, m, kg m^2 (the effects' own units).
+/// curvature, the noise from the residual) and online estimates (the estimator's covariance,
+/// covariance_uncertainty.hpp; both compute the numbers, this file only presents them): standard
+/// deviations of mass, COM and the inertia about the COM of every body, and of every effect
+/// coefficient, with the quantities the prior rather than the data determines labelled "held by the
+/// prior". As text, as JSON, and as the comments a model file carries (model_file.hpp). Units: kg,
+/// m, kg m^2 (the effects' own units).
 #pragma once
 
 #include <map>
