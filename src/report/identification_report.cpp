@@ -118,8 +118,10 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   return run;
 }
 
-std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
-  std::ostringstream out;
+namespace {
+
+// The report's first lines: the problem's size, how the fit stopped, the outliers left out, the cost.
+void WriteFitSummary(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
   const JointIdentificationResult& fit = run.fit;
   out << "Identification (eq. 14: log-Cholesky theta relative to the URDF prior, log-det regularizer)\n";
   out << "  " << model.bodies().size() << " bodies, " << model.effects().size() << " effect terms, "
@@ -141,7 +143,43 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   }
   out << "  cost: data " << Format("%.6g", fit.data_cost) << " N^2 m^2, regularizer " << Format("%.6g", fit.regularizer)
       << "\n\n";
+}
 
+// One identified body: mass, COM, inertia, principal axes, standard deviations, consistency.
+// Returns whether it is physically consistent.
+bool WriteBody(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run, int e) {
+  const InertialParams body = model.BodyInertia(e, run.fit.x);
+  const ConsistencyReport c = CheckConsistency(body);
+  const InertialParams prior = model.BodyInertia(e, Eigen::VectorXd::Zero(model.num_parameters()));
+  const Vector3 com = body.com();
+  const Matrix3 I = body.rotational_inertia_about_com();
+  Vector3 moments;
+  Matrix3 axes;
+  Principal(I, &moments, &axes);
+  out << "  " << model.bodies()[e].name << ": mass " << Format("%.6g", body.mass()) << " kg (prior "
+      << Format("%.6g", prior.mass()) << "), COM [" << Format("%.5g", com.x()) << ", " << Format("%.5g", com.y())
+      << ", " << Format("%.5g", com.z()) << "] m\n";
+  out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << Format("%.5g", I(0, 0)) << " "
+      << Format("%.5g", I(1, 1)) << " " << Format("%.5g", I(2, 2)) << " " << Format("%.5g", I(0, 1)) << " "
+      << Format("%.5g", I(1, 2)) << " " << Format("%.5g", I(0, 2)) << "] kg m^2\n";
+  out << "    principal moments [" << Format("%.5g", moments[0]) << " " << Format("%.5g", moments[1]) << " "
+      << Format("%.5g", moments[2]) << "] kg m^2 about axes";
+  for (int k = 0; k < 3; ++k) {
+    out << " (" << Format("%.3f", axes(0, k)) << " " << Format("%.3f", axes(1, k)) << " " << Format("%.3f", axes(2, k))
+        << ")";
+  }
+  out << "\n";
+  if (run.uncertainty) {
+    out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
+  }
+  out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
+      << " (mass " << Format("%.3g", c.mass) << " kg, triangle margin " << Format("%.3g", c.min_triangle_margin)
+      << " kg m^2, min eig J " << Format("%.3g", c.min_pseudo_inertia_eigenvalue) << ")\n";
+  return c.fully_consistent();
+}
+
+// The bodies' section; returns whether every body is physically consistent.
+bool WriteBodies(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
   bool all_consistent = true;
   out << "Bodies (each in its own link frame; inertia about the COM)";
   if (run.uncertainty) {
@@ -153,65 +191,46 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   }
   out << "\n";
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const InertialParams body = model.BodyInertia(e, fit.x);
-    const ConsistencyReport c = CheckConsistency(body);
-    all_consistent = all_consistent && c.fully_consistent();
-    const InertialParams prior = model.BodyInertia(e, Eigen::VectorXd::Zero(model.num_parameters()));
-    const Vector3 com = body.com();
-    const Matrix3 I = body.rotational_inertia_about_com();
-    Vector3 moments;
-    Matrix3 axes;
-    Principal(I, &moments, &axes);
-    out << "  " << model.bodies()[e].name << ": mass " << Format("%.6g", body.mass()) << " kg (prior "
-        << Format("%.6g", prior.mass()) << "), COM [" << Format("%.5g", com.x()) << ", " << Format("%.5g", com.y())
-        << ", " << Format("%.5g", com.z()) << "] m\n";
-    out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << Format("%.5g", I(0, 0)) << " "
-        << Format("%.5g", I(1, 1)) << " " << Format("%.5g", I(2, 2)) << " " << Format("%.5g", I(0, 1)) << " "
-        << Format("%.5g", I(1, 2)) << " " << Format("%.5g", I(0, 2)) << "] kg m^2\n";
-    out << "    principal moments [" << Format("%.5g", moments[0]) << " " << Format("%.5g", moments[1]) << " "
-        << Format("%.5g", moments[2]) << "] kg m^2 about axes";
-    for (int k = 0; k < 3; ++k) {
-      out << " (" << Format("%.3f", axes(0, k)) << " " << Format("%.3f", axes(1, k)) << " " << Format("%.3f", axes(2, k))
-          << ")";
+    const bool consistent = WriteBody(out, model, run, e);
+    all_consistent = all_consistent && consistent;
+  }
+  return all_consistent;
+}
+
+// The effects' section (none without effect terms): each value with its standard deviation and unit.
+void WriteEffects(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
+  if (model.effects().empty()) return;
+  out << "\nEffects\n";
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    const std::vector<double> v = model.EffectValues(k, run.fit.x);
+    const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
+    out << "  " << ToString(t.kind) << "@" << t.joint << ":";
+    for (size_t i = 0; i < v.size(); ++i) {
+      out << " " << names[i] << " = " << Format("%.6g", v[i]);
+      if (run.uncertainty) out << " +- " << Format("%.3g", run.uncertainty->effects[k][i]);
+      out << " " << units[i];
     }
     out << "\n";
-    if (run.uncertainty) {
-      out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
-    }
-    out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
-        << " (mass " << Format("%.3g", c.mass) << " kg, triangle margin " << Format("%.3g", c.min_triangle_margin)
-        << " kg m^2, min eig J " << Format("%.3g", c.min_pseudo_inertia_eigenvalue) << ")\n";
   }
-  if (!model.effects().empty()) {
-    out << "\nEffects\n";
-    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-      const EffectTerm& t = model.effects()[k];
-      const std::vector<double> v = model.EffectValues(k, fit.x);
-      const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
-      out << "  " << ToString(t.kind) << "@" << t.joint << ":";
-      for (size_t i = 0; i < v.size(); ++i) {
-        out << " " << names[i] << " = " << Format("%.6g", v[i]);
-        if (run.uncertainty) out << " +- " << Format("%.3g", run.uncertainty->effects[k][i]);
-        out << " " << units[i];
-      }
-      out << "\n";
-    }
-  }
-  auto table = [&](const char* what, const TorqueErrors& prior, const TorqueErrors& fitted) {
-    out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
-    for (int k = 0; k < model.num_dofs(); ++k) {
-      out << "  " << model.dof_names()[k] << ": " << Format("%.4g", prior.rms[k]) << " ("
-          << Format("%.1f", 100 * prior.relative_rms[k]) << " %) -> " << Format("%.4g", fitted.rms[k]) << " ("
-          << Format("%.1f", 100 * fitted.relative_rms[k]) << " %)\n";
-    }
-    out << "  all joints: " << Format("%.4g", prior.total_rms) << " (" << Format("%.1f", 100 * prior.total_relative_rms)
-        << " %) -> " << Format("%.4g", fitted.total_rms) << " (" << Format("%.1f", 100 * fitted.total_relative_rms)
-        << " %)\n";
-  };
-  table("training", run.prior_train, run.fit_train);
-  if (run.fit_validation) table("validation", *run.prior_validation, *run.fit_validation);
+}
 
-  const IdentifiabilityReport& id = run.identifiability;
+// The torque errors on one data set, per joint and over all, of the prior and of the identified model.
+void WriteTorqueErrors(std::ostringstream& out, const RobotDynamics& model, const char* what, const TorqueErrors& prior,
+                       const TorqueErrors& fitted) {
+  out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
+  for (int k = 0; k < model.num_dofs(); ++k) {
+    out << "  " << model.dof_names()[k] << ": " << Format("%.4g", prior.rms[k]) << " ("
+        << Format("%.1f", 100 * prior.relative_rms[k]) << " %) -> " << Format("%.4g", fitted.rms[k]) << " ("
+        << Format("%.1f", 100 * fitted.relative_rms[k]) << " %)\n";
+  }
+  out << "  all joints: " << Format("%.4g", prior.total_rms) << " (" << Format("%.1f", 100 * prior.total_relative_rms)
+      << " %) -> " << Format("%.4g", fitted.total_rms) << " (" << Format("%.1f", 100 * fitted.total_relative_rms)
+      << " %)\n";
+}
+
+// The identifiability section: the rank, and the first max_directions directions the data do not see.
+void WriteIdentifiability(std::ostringstream& out, const IdentifiabilityReport& id, int max_directions) {
   out << "\nIdentifiability: " << id.rank << " of " << id.num_parameters
       << " regressor columns identified (condition number " << Format("%.3g", id.condition_number) << ")";
   if (id.directions.empty()) {
@@ -226,6 +245,18 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       out << "  ... and " << id.directions.size() - max_directions << " more (see --json)\n";
     }
   }
+}
+
+}  // namespace
+
+std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
+  std::ostringstream out;
+  WriteFitSummary(out, model, run);
+  const bool all_consistent = WriteBodies(out, model, run);
+  WriteEffects(out, model, run);
+  WriteTorqueErrors(out, model, "training", run.prior_train, run.fit_train);
+  if (run.fit_validation) WriteTorqueErrors(out, model, "validation", *run.prior_validation, *run.fit_validation);
+  WriteIdentifiability(out, run.identifiability, max_directions);
   out << "\n" << (all_consistent ? "Every identified body is physically consistent."
                                  : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
       << "\n";
