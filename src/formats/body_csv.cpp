@@ -17,28 +17,29 @@ namespace {
 constexpr const char* kColumns[] = {"t", "wx", "wy", "wz", "vx", "vy", "vz", "mx", "my", "mz", "fx", "fy", "fz"};
 constexpr const char* kGravity[] = {"gx", "gy", "gz"};
 
-}  // namespace
+// The header row's columns: their names, and the indices of those read (kColumns' in order, then
+// the gravity columns when present).
+struct BodyColumns {
+  std::vector<std::string> header;
+  std::vector<int> used;
+  int gravity_columns = 0;
+};
 
-BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<std::string>* notices, double time_scale) {
-  if (!(time_scale >= 0.0) || !std::isfinite(time_scale)) {
-    throw std::invalid_argument("body CSV: the time scale (--time-scale) must be a positive finite number, or 0 for seconds");
-  }
-  const std::string text = csv::ReadAll(in, source);
-  csv::LineReader lines(text);
-  std::string_view line;
-  if (csv::IsBlank(text)) throw CsvError(source + ": empty file (expected a header row t, wx, ..., fz)");
-  lines.Next(line);
-  if (line.size() >= 3 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+// Reads the header row (line 1, byte-order mark removed): rejects repeated, missing or partial gravity
+// columns, and notes the columns ignored.
+BodyColumns ReadBodyHeader(std::string_view line, const std::string& source, std::vector<std::string>* notices) {
+  BodyColumns columns;
   std::vector<std::string_view> cells;
   csv::SplitCells(line, cells);
-  std::vector<std::string> header(cells.begin(), cells.end());
+  std::vector<std::string>& header = columns.header;
+  header.assign(cells.begin(), cells.end());
   std::unordered_map<std::string, int> index;
   for (int c = 0; c < static_cast<int>(header.size()); ++c) {
     if (!header[c].empty() && !index.emplace(header[c], c).second) {
       throw CsvError(source + ":1: column " + std::to_string(c + 1) + " '" + header[c] + "' is repeated");
     }
   }
-  std::vector<int> used;
+  std::vector<int>& used = columns.used;
   std::string missing;
   for (const char* name : kColumns) {
     const auto it = index.find(name);
@@ -49,7 +50,7 @@ BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<st
     }
   }
   if (!missing.empty()) throw CsvError(source + ":1: missing columns " + missing);
-  int gravity_columns = 0;
+  int& gravity_columns = columns.gravity_columns;
   for (const char* name : kGravity) {
     const auto it = index.find(name);
     if (it != index.end()) {
@@ -67,6 +68,26 @@ BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<st
     }
     notices->push_back(source + ": columns ignored: " + extra);
   }
+  return columns;
+}
+
+}  // namespace
+
+BodyLog ParseBodyCsv(std::istream& in, const std::string& source, std::vector<std::string>* notices, double time_scale) {
+  if (!(time_scale >= 0.0) || !std::isfinite(time_scale)) {
+    throw std::invalid_argument("body CSV: the time scale (--time-scale) must be a positive finite number, or 0 for seconds");
+  }
+  const std::string text = csv::ReadAll(in, source);
+  csv::LineReader lines(text);
+  std::string_view line;
+  if (csv::IsBlank(text)) throw CsvError(source + ": empty file (expected a header row t, wx, ..., fz)");
+  lines.Next(line);
+  if (line.size() >= 3 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+  const BodyColumns columns = ReadBodyHeader(line, source, notices);
+  const std::vector<std::string>& header = columns.header;
+  const std::vector<int>& used = columns.used;
+  const int gravity_columns = columns.gravity_columns;
+  std::vector<std::string_view> cells;
   BodyLog log;
   std::vector<double> v(used.size());
   while (lines.Next(line)) {

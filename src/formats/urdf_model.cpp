@@ -466,6 +466,101 @@ struct PendingBody {
   bool has_mass = false;      // some link of it has a non-zero <inertial>
 };
 
+// A tree body for a moving joint: its child link, hanging from parent_body at X_body_joint.
+PendingBody MovingBody(const urdf::Joint& joint, int parent_body, const SpatialTransform& X_body_joint) {
+  PendingBody body;
+  body.link = joint.child_link_name;
+  body.parent = parent_body;
+  body.joint.name = joint.name;
+  body.joint.type = joint.type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
+  body.joint.R_parent_joint = X_body_joint.R_AB;
+  body.joint.p_parent_joint = X_body_joint.p_AB;
+  body.joint.axis = VectorOf(joint.axis).normalized();
+  return body;
+}
+
+// Places every link: the joints in file order, each once its parent link is placed (parents before
+// children). A moving joint starts a body; a fixed one puts its child link on its parent's body.
+std::vector<PendingBody> PlaceLinks(const urdf::ModelInterfaceSharedPtr& urdf_model, const std::vector<std::string>& joints,
+                                    const std::string& src, RobotModel* model) {
+  std::vector<PendingBody> bodies;
+  model->placements[model->root_link] = LinkPlacement{};
+  std::vector<std::string> remaining = joints;
+  while (!remaining.empty()) {
+    std::vector<std::string> later;
+    for (const std::string& joint_name : remaining) {
+      const urdf::JointConstSharedPtr joint = urdf_model->getJoint(joint_name);
+      if (!joint) continue;
+      const auto parent = model->placements.find(joint->parent_link_name);
+      if (parent == model->placements.end()) {
+        later.push_back(joint_name);
+        continue;
+      }
+      const SpatialTransform X_parent_joint = CheckJoint(*joint, src);
+      const LinkPlacement parent_placement = parent->second;
+      const SpatialTransform X_body_joint = Compose(parent_placement.X_body_link, X_parent_joint);
+      LinkPlacement child;
+      if (joint->type == urdf::Joint::FIXED) {
+        child.body = parent_placement.body;
+        child.X_body_link = X_body_joint;
+      } else {
+        bodies.push_back(MovingBody(*joint, parent_placement.body, X_body_joint));
+        child.body = static_cast<int>(bodies.size()) - 1;
+      }
+      model->placements[joint->child_link_name] = child;
+    }
+    if (later.size() == remaining.size()) {
+      throw UrdfError(src + ": joint '" + later.front() + "' hangs from a link that is not connected to the root '" +
+                      model->root_link + "'");
+    }
+    remaining = later;
+  }
+  return bodies;
+}
+
+// Merges each link's inertial into its body (checked for consistency first if the options ask).
+void MergeInertials(const RobotModel& model, const UrdfLoadOptions& options, const std::string& src,
+                    std::vector<PendingBody>* bodies) {
+  for (const UrdfLinkInertial& li : model.links) {
+    const auto placement = model.placements.find(li.link);
+    if (placement == model.placements.end() || placement->second.body < 0 || !li.present) continue;
+    PendingBody& body = (*bodies)[placement->second.body];
+    body.has_inertial = true;
+    if (IsZero(li.pi)) continue;
+    if (options.require_consistent_inertials) {
+      const ConsistencyReport report = CheckConsistency(li.pi);
+      if (!report.fully_consistent()) {
+        throw UrdfError(src + ": link '" + li.link + "': <inertial> is not physically consistent: " + report.reason);
+      }
+    }
+    body.has_mass = true;
+    const SpatialTransform& X = placement->second.X_body_link;
+    body.inertia = body.inertia + li.pi.Transformed(X.R_AB, X.p_AB);
+  }
+}
+
+// Adds the bodies to the model's tree, in order, with their links and joints (a massless body
+// rejected first if the options ask for consistent inertials).
+void AddBodies(const std::vector<PendingBody>& bodies, const UrdfLoadOptions& options, const std::string& src,
+               RobotModel* model) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const PendingBody& body = bodies[i];
+    if (options.require_consistent_inertials && !body.has_mass) {
+      throw UrdfError(src + ": link '" + body.link + "' (moved by joint '" + body.joint.name + "') " +
+                      (body.has_inertial ? "has zero mass: its <inertial> and those of the links fixed to it are zero"
+                                         : "has no <inertial>, nor has any link fixed to it"));
+    }
+    try {
+      model->tree.AddBody(body.link, body.parent, body.joint, body.inertia);
+    } catch (const std::invalid_argument& e) {
+      throw UrdfError(src + ": " + e.what());
+    }
+    model->body_links.push_back(body.link);
+    model->body_has_inertial.push_back(body.has_inertial);
+    model->dof_names.push_back(body.joint.name);
+  }
+}
+
 }  // namespace
 
 int RobotModel::DofIndex(const std::string& joint) const {
@@ -508,90 +603,15 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
   model.root_link = urdf_model->getRoot()->name;
 
   // Every link's own inertial, in file order.
-  std::map<std::string, UrdfLinkInertial> inertial_of;
   for (const std::string& link_name : order.links) {
     const urdf::LinkConstSharedPtr link = urdf_model->getLink(link_name);
     if (!link) continue;
     model.links.push_back(ConvertInertial(*link, src));
-    inertial_of[link_name] = model.links.back();
   }
 
-  // Joints in file order, each once its parent link is placed (parents before children).
-  std::vector<PendingBody> bodies;
-  model.placements[model.root_link] = LinkPlacement{};
-  std::vector<std::string> remaining = order.joints;
-  while (!remaining.empty()) {
-    std::vector<std::string> later;
-    for (const std::string& joint_name : remaining) {
-      const urdf::JointConstSharedPtr joint = urdf_model->getJoint(joint_name);
-      if (!joint) continue;
-      const auto parent = model.placements.find(joint->parent_link_name);
-      if (parent == model.placements.end()) {
-        later.push_back(joint_name);
-        continue;
-      }
-      const SpatialTransform X_parent_joint = CheckJoint(*joint, src);
-      const LinkPlacement parent_placement = parent->second;
-      const SpatialTransform X_body_joint = Compose(parent_placement.X_body_link, X_parent_joint);
-      LinkPlacement child;
-      if (joint->type == urdf::Joint::FIXED) {
-        child.body = parent_placement.body;
-        child.X_body_link = X_body_joint;
-      } else {
-        PendingBody body;
-        body.link = joint->child_link_name;
-        body.parent = parent_placement.body;
-        body.joint.name = joint->name;
-        body.joint.type = joint->type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
-        body.joint.R_parent_joint = X_body_joint.R_AB;
-        body.joint.p_parent_joint = X_body_joint.p_AB;
-        body.joint.axis = VectorOf(joint->axis).normalized();
-        bodies.push_back(body);
-        child.body = static_cast<int>(bodies.size()) - 1;
-      }
-      model.placements[joint->child_link_name] = child;
-    }
-    if (later.size() == remaining.size()) {
-      throw UrdfError(src + ": joint '" + later.front() + "' hangs from a link that is not connected to the root '" +
-                      model.root_link + "'");
-    }
-    remaining = later;
-  }
-
-  // Merge each link's inertial into its body.
-  for (const UrdfLinkInertial& li : model.links) {
-    const auto placement = model.placements.find(li.link);
-    if (placement == model.placements.end() || placement->second.body < 0 || !li.present) continue;
-    PendingBody& body = bodies[placement->second.body];
-    body.has_inertial = true;
-    if (IsZero(li.pi)) continue;
-    if (options.require_consistent_inertials) {
-      const ConsistencyReport report = CheckConsistency(li.pi);
-      if (!report.fully_consistent()) {
-        throw UrdfError(src + ": link '" + li.link + "': <inertial> is not physically consistent: " + report.reason);
-      }
-    }
-    body.has_mass = true;
-    const SpatialTransform& X = placement->second.X_body_link;
-    body.inertia = body.inertia + li.pi.Transformed(X.R_AB, X.p_AB);
-  }
-
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const PendingBody& body = bodies[i];
-    if (options.require_consistent_inertials && !body.has_mass) {
-      throw UrdfError(src + ": link '" + body.link + "' (moved by joint '" + body.joint.name + "') " +
-                      (body.has_inertial ? "has zero mass: its <inertial> and those of the links fixed to it are zero"
-                                         : "has no <inertial>, nor has any link fixed to it"));
-    }
-    try {
-      model.tree.AddBody(body.link, body.parent, body.joint, body.inertia);
-    } catch (const std::invalid_argument& e) {
-      throw UrdfError(src + ": " + e.what());
-    }
-    model.body_links.push_back(body.link);
-    model.body_has_inertial.push_back(body.has_inertial);
-    model.dof_names.push_back(body.joint.name);
-  }
+  std::vector<PendingBody> bodies = PlaceLinks(urdf_model, order.joints, src, &model);
+  MergeInertials(model, options, src, &bodies);
+  AddBodies(bodies, options, src, &model);
 
   model.effects = detail::ReadModelEffects(robot_element, src, model.dof_names, &model.effect_declared);
   model.dof_limits = detail::ReadJointLimits(robot_element, src, model.dof_names);

@@ -46,33 +46,24 @@ std::array<double, 2> EffectFeatures(const EffectTerm& t, const Eigen::VectorXd&
   }
 }
 
-}  // namespace
-
-RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string> dof_names,
-                             const std::vector<EffectSpec>& effects, const LinkResolver& resolve_link,
-                             const Vector3& gravity)
-    : tree_(links), dof_names_(std::move(dof_names)), gravity_(gravity) {
-  if (static_cast<int>(dof_names_.size()) != links.num_dofs()) {
-    throw std::invalid_argument("robot dynamics: " + std::to_string(dof_names_.size()) + " joint names for " +
-                                std::to_string(links.num_dofs()) + " DOFs");
+// The index of the joint an effect names; throws, listing the joints, if there is none of that name.
+int DofOf(const std::vector<std::string>& dof_names, const EffectSpec& e) {
+  const auto it = std::find(dof_names.begin(), dof_names.end(), e.target);
+  if (it == dof_names.end()) {
+    std::string known;
+    for (const std::string& n : dof_names) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("effect '" + e.text + "': unknown joint '" + e.target + "' (joints: " + known + ")");
   }
-  if (!gravity.allFinite()) throw std::invalid_argument("robot dynamics: gravity is not finite");
-  auto dof_of = [&](const EffectSpec& e) {
-    const auto it = std::find(dof_names_.begin(), dof_names_.end(), e.target);
-    if (it == dof_names_.end()) {
-      std::string known;
-      for (const std::string& n : dof_names_) known += (known.empty() ? "" : ", ") + n;
-      throw std::invalid_argument("effect '" + e.text + "': unknown joint '" + e.target + "' (joints: " + known + ")");
-    }
-    return static_cast<int>(it - dof_names_.begin());
-  };
+  return static_cast<int>(it - dof_names.begin());
+}
 
-  // Rotors become tree bodies on the joint's parent body, coaxial with the joint.
-  std::vector<std::pair<std::string, InertialParams>> rotor_priors;
+// Rotors become tree bodies on the joint's parent body, coaxial with the joint.
+void AddRotors(const KinematicTree& links, const std::vector<std::string>& dof_names,
+               const std::vector<EffectSpec>& effects, KinematicTree* tree) {
   std::set<int> rotor_dofs;
   for (const EffectSpec& e : effects) {
     if (e.kind != EffectKind::kRotor) continue;
-    const int dof = dof_of(e);
+    const int dof = DofOf(dof_names, e);
     if (!rotor_dofs.insert(dof).second) throw std::invalid_argument("effect '" + e.text + "': a second rotor on joint '" + e.target + "'");
     int child = -1;
     for (int b = 0; b < links.num_bodies(); ++b) {
@@ -86,12 +77,13 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
     const double m = e.mass > 0 ? e.mass : 0.3, r = e.radius > 0 ? e.radius : 0.04, l = e.length > 0 ? e.length : 0.03;
     const InertialParams prior =
         e.inertia ? *e.inertia : SolidCylinder(m, r, l, Pose{RotationZTo(joint.axis), Vector3::Zero()});
-    tree_.AddRotor(joint.name, links.parent(child), joint, prior, dof, e.gear_ratio);
+    tree->AddRotor(joint.name, links.parent(child), joint, prior, dof, e.gear_ratio);
   }
-  for (int b = 0; b < tree_.num_bodies(); ++b) {
-    bodies_.push_back(EstimatedBody{tree_.body_name(b), b, tree_.inertia(b), LogCholeskyParameterization(tree_.inertia(b)),
-                                    SpatialTransform()});
-  }
+}
+
+// Payloads become estimated bodies on the tree body their link is fixed to.
+void AddPayloads(const std::vector<EffectSpec>& effects, const LinkResolver& resolve_link,
+                 std::vector<EstimatedBody>* bodies) {
   std::set<std::string> payload_links;
   for (const EffectSpec& e : effects) {
     if (e.kind != EffectKind::kPayload) continue;
@@ -107,41 +99,65 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
     const double m = e.mass > 0 ? e.mass : 0.5, r = e.radius > 0 ? e.radius : 0.05;
     const InertialParams prior =
         (e.inertia ? *e.inertia : SolidSphere(m, r)).Transformed(where.link_in_body.R_AB, where.link_in_body.p_AB);
-    bodies_.push_back(EstimatedBody{"payload@" + e.target, where.body, prior, LogCholeskyParameterization(prior),
+    bodies->push_back(EstimatedBody{"payload@" + e.target, where.body, prior, LogCholeskyParameterization(prior),
                                     where.link_in_body});
   }
-  num_parameters_ = 10 * static_cast<int>(bodies_.size());
-  num_features_ = 10 * tree_.num_bodies();
+}
 
-  // Joint effects: one term per (kind, joint), in the order given.
+// Joint effects: one term per (kind, joint), in the order given, their parameters and features
+// numbered on from *num_parameters and *num_features.
+void AddJointEffects(const std::vector<EffectSpec>& effects, const std::vector<std::string>& dof_names, int num_dofs,
+                     int* num_parameters, int* num_features, std::vector<EffectTerm>* terms) {
   std::set<std::pair<int, int>> seen;
   for (const EffectSpec& e : effects) {
     if (!IsJointEffect(e.kind)) continue;
     std::vector<int> dofs;
     if (e.target.empty()) {
-      for (int j = 0; j < num_dofs(); ++j) dofs.push_back(j);
+      for (int j = 0; j < num_dofs; ++j) dofs.push_back(j);
     } else {
-      dofs.push_back(dof_of(e));
+      dofs.push_back(DofOf(dof_names, e));
     }
     for (int j : dofs) {
       if (!seen.insert({static_cast<int>(e.kind), j}).second) {
         throw std::invalid_argument("effect '" + e.text + "': " + std::string(ToString(e.kind)) + " on joint '" +
-                                    dof_names_[j] + "' is already in the list");
+                                    dof_names[j] + "' is already in the list");
       }
       EffectTerm t;
       t.kind = e.kind;
       t.dof = j;
-      t.joint = dof_names_[j];
+      t.joint = dof_names[j];
       t.velocity_scale = e.velocity_scale;
       t.steepness = e.steepness;
       t.shift = e.shift;
-      t.first_parameter = num_parameters_;
-      t.first_feature = num_features_;
-      num_parameters_ += t.size();
-      num_features_ += t.size();
-      effects_.push_back(t);
+      t.first_parameter = *num_parameters;
+      t.first_feature = *num_features;
+      *num_parameters += t.size();
+      *num_features += t.size();
+      terms->push_back(t);
     }
   }
+}
+
+}  // namespace
+
+RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string> dof_names,
+                             const std::vector<EffectSpec>& effects, const LinkResolver& resolve_link,
+                             const Vector3& gravity)
+    : tree_(links), dof_names_(std::move(dof_names)), gravity_(gravity) {
+  if (static_cast<int>(dof_names_.size()) != links.num_dofs()) {
+    throw std::invalid_argument("robot dynamics: " + std::to_string(dof_names_.size()) + " joint names for " +
+                                std::to_string(links.num_dofs()) + " DOFs");
+  }
+  if (!gravity.allFinite()) throw std::invalid_argument("robot dynamics: gravity is not finite");
+  AddRotors(links, dof_names_, effects, &tree_);
+  for (int b = 0; b < tree_.num_bodies(); ++b) {
+    bodies_.push_back(EstimatedBody{tree_.body_name(b), b, tree_.inertia(b), LogCholeskyParameterization(tree_.inertia(b)),
+                                    SpatialTransform()});
+  }
+  AddPayloads(effects, resolve_link, &bodies_);
+  num_parameters_ = 10 * static_cast<int>(bodies_.size());
+  num_features_ = 10 * tree_.num_bodies();
+  AddJointEffects(effects, dof_names_, num_dofs(), &num_parameters_, &num_features_, &effects_);
 }
 
 std::vector<std::string> RobotDynamics::ParameterNames() const {

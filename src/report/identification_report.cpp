@@ -114,8 +114,10 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   return run;
 }
 
-std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
-  std::ostringstream out;
+namespace {
+
+// The report's first lines: the problem's size, how the fit stopped, the outliers left out, the cost.
+void WriteFitSummary(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
   const JointIdentificationResult& fit = run.fit;
   out << "Identification (eq. 14: log-Cholesky theta relative to the URDF prior, log-det regularizer)\n";
   out << "  " << model.bodies().size() << " bodies, " << model.effects().size() << " effect terms, "
@@ -137,7 +139,43 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   }
   out << "  cost: data " << FormatNumber(fit.data_cost, 6) << " N^2 m^2, regularizer " << FormatNumber(fit.regularizer, 6)
       << "\n\n";
+}
 
+// One identified body: mass, COM, inertia, principal axes, standard deviations, consistency.
+// Returns whether it is physically consistent.
+bool WriteBody(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run, int e) {
+  const InertialParams body = model.BodyInertia(e, run.fit.x);
+  const ConsistencyReport c = CheckConsistency(body);
+  const InertialParams prior = model.BodyInertia(e, Eigen::VectorXd::Zero(model.num_parameters()));
+  const Vector3 com = body.com();
+  const Matrix3 I = body.rotational_inertia_about_com();
+  Vector3 moments;
+  Matrix3 axes;
+  Principal(I, &moments, &axes);
+  out << "  " << model.bodies()[e].name << ": mass " << FormatNumber(body.mass(, 6)) << " kg (prior "
+      << FormatNumber(prior.mass(, 6)) << "), COM [" << FormatNumber(com.x(, 5)) << ", " << FormatNumber(com.y(, 5))
+      << ", " << FormatNumber(com.z(, 5)) << "] m\n";
+  out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << FormatNumber(I(0, 0, 5)) << " "
+      << FormatNumber(I(1, 1, 5)) << " " << FormatNumber(I(2, 2, 5)) << " " << FormatNumber(I(0, 1, 5)) << " "
+      << FormatNumber(I(1, 2, 5)) << " " << FormatNumber(I(0, 2, 5)) << "] kg m^2\n";
+  out << "    principal moments [" << FormatNumber(moments[0], 5) << " " << FormatNumber(moments[1], 5) << " "
+      << FormatNumber(moments[2], 5) << "] kg m^2 about axes";
+  for (int k = 0; k < 3; ++k) {
+    out << " (" << FormatFixed(axes(0, k, 3)) << " " << FormatFixed(axes(1, k, 3)) << " " << FormatFixed(axes(2, k, 3))
+        << ")";
+  }
+  out << "\n";
+  if (run.uncertainty) {
+    out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
+  }
+  out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
+      << " (mass " << FormatNumber(c.mass, 3) << " kg, triangle margin " << FormatNumber(c.min_triangle_margin, 3)
+      << " kg m^2, min eig J " << FormatNumber(c.min_pseudo_inertia_eigenvalue, 3) << ")\n";
+  return c.fully_consistent();
+}
+
+// The bodies' section; returns whether every body is physically consistent.
+bool WriteBodies(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
   bool all_consistent = true;
   out << "Bodies (each in its own link frame; inertia about the COM)";
   if (run.uncertainty) {
@@ -149,65 +187,46 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   }
   out << "\n";
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const InertialParams body = model.BodyInertia(e, fit.x);
-    const ConsistencyReport c = CheckConsistency(body);
-    all_consistent = all_consistent && c.fully_consistent();
-    const InertialParams prior = model.BodyInertia(e, Eigen::VectorXd::Zero(model.num_parameters()));
-    const Vector3 com = body.com();
-    const Matrix3 I = body.rotational_inertia_about_com();
-    Vector3 moments;
-    Matrix3 axes;
-    Principal(I, &moments, &axes);
-    out << "  " << model.bodies()[e].name << ": mass " << FormatNumber(body.mass(), 6) << " kg (prior "
-        << FormatNumber(prior.mass(), 6) << "), COM [" << FormatNumber(com.x(), 5) << ", " << FormatNumber(com.y(), 5)
-        << ", " << FormatNumber(com.z(), 5) << "] m\n";
-    out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << FormatNumber(I(0, 0), 5) << " "
-        << FormatNumber(I(1, 1), 5) << " " << FormatNumber(I(2, 2), 5) << " " << FormatNumber(I(0, 1), 5) << " "
-        << FormatNumber(I(1, 2), 5) << " " << FormatNumber(I(0, 2), 5) << "] kg m^2\n";
-    out << "    principal moments [" << FormatNumber(moments[0], 5) << " " << FormatNumber(moments[1], 5) << " "
-        << FormatNumber(moments[2], 5) << "] kg m^2 about axes";
-    for (int k = 0; k < 3; ++k) {
-      out << " (" << FormatFixed(axes(0, k), 3) << " " << FormatFixed(axes(1, k), 3) << " " << FormatFixed(axes(2, k), 3)
-          << ")";
+    const bool consistent = WriteBody(out, model, run, e);
+    all_consistent = all_consistent && consistent;
+  }
+  return all_consistent;
+}
+
+// The effects' section (none without effect terms): each value with its standard deviation and unit.
+void WriteEffects(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
+  if (model.effects().empty()) return;
+  out << "\nEffects\n";
+  for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
+    const EffectTerm& t = model.effects()[k];
+    const std::vector<double> v = model.EffectValues(k, run.fit.x);
+    const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
+    out << "  " << ToString(t.kind) << "@" << t.joint << ":";
+    for (size_t i = 0; i < v.size(); ++i) {
+      out << " " << names[i] << " = " << FormatNumber(v[i], 6);
+      if (run.uncertainty) out << " +- " << FormatNumber(run.uncertainty->effects[k][i], 3);
+      out << " " << units[i];
     }
     out << "\n";
-    if (run.uncertainty) {
-      out << "    +- " << BodyUncertaintyText(body, run.uncertainty->bodies[e], &run.uncertainty->body_held[e]) << "\n";
-    }
-    out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
-        << " (mass " << FormatNumber(c.mass, 3) << " kg, triangle margin " << FormatNumber(c.min_triangle_margin, 3)
-        << " kg m^2, min eig J " << FormatNumber(c.min_pseudo_inertia_eigenvalue, 3) << ")\n";
   }
-  if (!model.effects().empty()) {
-    out << "\nEffects\n";
-    for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-      const EffectTerm& t = model.effects()[k];
-      const std::vector<double> v = model.EffectValues(k, fit.x);
-      const std::vector<std::string> names = EffectValueNames(t.kind), units = EffectValueUnits(t.kind);
-      out << "  " << ToString(t.kind) << "@" << t.joint << ":";
-      for (size_t i = 0; i < v.size(); ++i) {
-        out << " " << names[i] << " = " << FormatNumber(v[i], 6);
-        if (run.uncertainty) out << " +- " << FormatNumber(run.uncertainty->effects[k][i], 3);
-        out << " " << units[i];
-      }
-      out << "\n";
-    }
-  }
-  auto table = [&](const char* what, const TorqueErrors& prior, const TorqueErrors& fitted) {
-    out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
-    for (int k = 0; k < model.num_dofs(); ++k) {
-      out << "  " << model.dof_names()[k] << ": " << FormatNumber(prior.rms[k], 4) << " ("
-          << FormatFixed(100 * prior.relative_rms[k], 1) << " %) -> " << FormatNumber(fitted.rms[k], 4) << " ("
-          << FormatFixed(100 * fitted.relative_rms[k], 1) << " %)\n";
-    }
-    out << "  all joints: " << FormatNumber(prior.total_rms, 4) << " (" << FormatFixed(100 * prior.total_relative_rms, 1)
-        << " %) -> " << FormatNumber(fitted.total_rms, 4) << " (" << FormatFixed(100 * fitted.total_relative_rms, 1)
-        << " %)\n";
-  };
-  table("training", run.prior_train, run.fit_train);
-  if (run.fit_validation) table("validation", *run.prior_validation, *run.fit_validation);
+}
 
-  const IdentifiabilityReport& id = run.identifiability;
+// The torque errors on one data set, per joint and over all, of the prior and of the identified model.
+void WriteTorqueErrors(std::ostringstream& out, const RobotDynamics& model, const char* what, const TorqueErrors& prior,
+                       const TorqueErrors& fitted) {
+  out << "\nTorque error on " << what << " data: RMS [N m] (relative RMS), URDF prior -> identified\n";
+  for (int k = 0; k < model.num_dofs(); ++k) {
+    out << "  " << model.dof_names()[k] << ": " << FormatNumber(prior.rms[k], 4) << " ("
+        << FormatFixed(100 * prior.relative_rms[k], 1) << " %) -> " << FormatNumber(fitted.rms[k], 4) << " ("
+        << FormatFixed(100 * fitted.relative_rms[k], 1) << " %)\n";
+  }
+  out << "  all joints: " << FormatNumber(prior.total_rms, 4) << " (" << FormatFixed(100 * prior.total_relative_rms, 1)
+      << " %) -> " << FormatNumber(fitted.total_rms, 4) << " (" << FormatFixed(100 * fitted.total_relative_rms, 1)
+      << " %)\n";
+}
+
+// The identifiability section: the rank, and the first max_directions directions the data do not see.
+void WriteIdentifiability(std::ostringstream& out, const IdentifiabilityReport& id, int max_directions) {
   out << "\nIdentifiability: " << id.rank << " of " << id.num_parameters
       << " regressor columns identified (condition number " << FormatNumber(id.condition_number, 3) << ")";
   if (id.directions.empty()) {
@@ -222,6 +241,18 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
       out << "  ... and " << id.directions.size() - max_directions << " more (see --json)\n";
     }
   }
+}
+
+}  // namespace
+
+std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
+  std::ostringstream out;
+  WriteFitSummary(out, model, run);
+  const bool all_consistent = WriteBodies(out, model, run);
+  WriteEffects(out, model, run);
+  WriteTorqueErrors(out, model, "training", run.prior_train, run.fit_train);
+  if (run.fit_validation) WriteTorqueErrors(out, model, "validation", *run.prior_validation, *run.fit_validation);
+  WriteIdentifiability(out, run.identifiability, max_directions);
   out << "\n" << (all_consistent ? "Every identified body is physically consistent."
                                  : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
       << "\n";

@@ -205,10 +205,10 @@ int WriteFinalModel(const ReplayCommand& c, const std::string& path, const Robot
   return kOk;
 }
 
-}  // namespace
-
-int RunReplayCommand(const ReplayCommand& c) {
-  int status = RefuseOverwritingInputs(
+// Refuses outputs that would overwrite an input, and a wrong choice of log (--log or --candump with
+// --can-config). Returns kOk or the exit status.
+int CheckReplayInputs(const ReplayCommand& c) {
+  const int status = RefuseOverwritingInputs(
       {{"--out", c.out}, {"--write-log", c.write_log}, {"--write-urdf", c.write_urdf}},
       {{"--model", c.model}, {"--log", c.log}, {"--candump", c.candump}, {"--can-config", c.can_config}, {"--config", c.config}});
   if (status != kOk) return status;
@@ -220,6 +220,69 @@ int RunReplayCommand(const ReplayCommand& c) {
     std::cerr << "Error: --candump and --can-config go together\n";
     return kUsage;
   }
+  return kOk;
+}
+
+// The payload events as a JSON array.
+nlohmann::json PayloadEventsJson(const std::vector<PayloadEvent>& events) {
+  nlohmann::json events_json = nlohmann::json::array();
+  for (const PayloadEvent& e : events) {
+    events_json.push_back({{"onset_time", e.onset_time},
+                           {"detection_time", e.detection_time},
+                           {"settle_time", e.settle_time},
+                           {"settled", e.settled},
+                           {"link", e.link},
+                           {"added_mass", e.added_mass},
+                           {"added_mass_std", e.added_mass_std},
+                           {"com", {e.com[0], e.com[1], e.com[2]}},
+                           {"com_std", {e.com_std[0], e.com_std[1], e.com_std[2]}},
+                           {"text", PayloadEventText(e)}});
+  }
+  return events_json;
+}
+
+// Prints the replay's outcome as JSON (--json): counters, diagnosis, payload events, final estimate.
+void PrintReplayJson(const std::string& path, const ReplayResult& r, const std::optional<StreamJudgement>& judged,
+                     const std::vector<PayloadEvent>& events, const OnlineJointEstimator& estimator) {
+  nlohmann::json events_json = PayloadEventsJson(events);
+  nlohmann::json j = {{"log", path},
+                      {"received", r.counters.received},
+                      {"accepted", r.counters.accepted},
+                      {"rejected", r.counters.total_rejected()},
+                      {"samples_per_second", r.samples_per_second}};
+  if (judged) {
+    const nlohmann::json d = OnlineDiagnosisJson(judged->diagnosis);
+    j["suggestions"] = d["suggestions"];
+    j["diagnosis"] = d;
+    if (judged->excitation) {
+      j["unexcited"] = UnexcitedNames(*judged->excitation, false);
+      j["unexcited_since_start"] = UnexcitedNames(*judged->excitation, true);
+      j["excitation"] = UnexcitedText(*judged->excitation);
+    }
+  }
+  j["payload_events"] = events_json;
+  j["estimate"] = FinalEstimateJson(estimator);
+  std::cout << j.dump(2) << "\n";
+}
+
+// Prints the replay's outcome as text: the summary, the estimate, payload events, diagnosis.
+void PrintReplayText(const std::string& path, const ReplayOptions& options, const ReplayResult& r,
+                     const std::optional<StreamJudgement>& judged, const std::vector<PayloadEvent>& events,
+                     const OnlineJointEstimator& estimator) {
+  std::cout << ReplaySummaryText(path, options, r);
+  std::cout << OnlineEstimateText(estimator);
+  for (const PayloadEvent& e : events) std::cout << PayloadEventText(e) << "\n";
+  if (judged) {
+    std::cout << OnlineDiagnosisText(judged->diagnosis);
+    if (judged->excitation) std::cout << "Excitation: " << UnexcitedText(*judged->excitation) << "\n";
+  }
+}
+
+}  // namespace
+
+int RunReplayCommand(const ReplayCommand& c) {
+  int status = CheckReplayInputs(c);
+  if (status != kOk) return status;
   const std::string& path = c.candump.empty() ? c.log : c.candump;
   ReplayConfig config;
   if ((status = ConfigureReplay(c, &config)) != kOk) return status;
@@ -249,45 +312,9 @@ int RunReplayCommand(const ReplayCommand& c) {
   std::optional<StreamJudgement> judged;
   if (diagnosis) judged = diagnosis->EvaluateNow(BodyStatesOf(estimator), estimator.estimator().parameters());
   if (c.json) {
-    nlohmann::json events_json = nlohmann::json::array();
-    for (const PayloadEvent& e : events) {
-      events_json.push_back({{"onset_time", e.onset_time},
-                             {"detection_time", e.detection_time},
-                             {"settle_time", e.settle_time},
-                             {"settled", e.settled},
-                             {"link", e.link},
-                             {"added_mass", e.added_mass},
-                             {"added_mass_std", e.added_mass_std},
-                             {"com", {e.com[0], e.com[1], e.com[2]}},
-                             {"com_std", {e.com_std[0], e.com_std[1], e.com_std[2]}},
-                             {"text", PayloadEventText(e)}});
-    }
-    nlohmann::json j = {{"log", path},
-                        {"received", r.counters.received},
-                        {"accepted", r.counters.accepted},
-                        {"rejected", r.counters.total_rejected()},
-                        {"samples_per_second", r.samples_per_second}};
-    if (judged) {
-      const nlohmann::json d = OnlineDiagnosisJson(judged->diagnosis);
-      j["suggestions"] = d["suggestions"];
-      j["diagnosis"] = d;
-      if (judged->excitation) {
-        j["unexcited"] = UnexcitedNames(*judged->excitation, false);
-        j["unexcited_since_start"] = UnexcitedNames(*judged->excitation, true);
-        j["excitation"] = UnexcitedText(*judged->excitation);
-      }
-    }
-    j["payload_events"] = events_json;
-    j["estimate"] = FinalEstimateJson(estimator);
-    std::cout << j.dump(2) << "\n";
+    PrintReplayJson(path, r, judged, events, estimator);
   } else {
-    std::cout << ReplaySummaryText(path, config.replay, r);
-    std::cout << OnlineEstimateText(estimator);
-    for (const PayloadEvent& e : events) std::cout << PayloadEventText(e) << "\n";
-    if (judged) {
-      std::cout << OnlineDiagnosisText(judged->diagnosis);
-      if (judged->excitation) std::cout << "Excitation: " << UnexcitedText(*judged->excitation) << "\n";
-    }
+    PrintReplayText(path, config.replay, r, judged, events, estimator);
   }
   if (!c.write_urdf.empty() && (status = WriteFinalModel(c, path, robot, estimator, r)) != kOk) return status;
   if (!c.out.empty()) std::cerr << "wrote " << c.out << ": " << r.estimate_rows << " rows\n";

@@ -157,8 +157,14 @@ Eigen::VectorXd PriorParametersWithoutEffects(const RobotDynamics& model) {
   return x;
 }
 
-JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
-                                             const JointIdentificationOptions& options) {
+namespace {
+
+// Whether estimated body e is frozen (held at its prior) by the flags (empty: none is).
+bool IsFrozen(const std::vector<bool>& frozen_bodies, int e) { return !frozen_bodies.empty() && frozen_bodies[e]; }
+
+// Rejects normal equations that do not match the model, and invalid options, in that order.
+void CheckIdentificationInputs(const RobotDynamics& model, const JointNormalEquations& data,
+                               const JointIdentificationOptions& options) {
   const int F = model.num_features(), P = model.num_parameters();
   if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
     throw std::invalid_argument("identification: normal equations do not match the model's features");
@@ -166,7 +172,6 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
   if (!(options.prior_weight >= 0.0) || !std::isfinite(options.prior_weight)) {
     throw std::invalid_argument("identification: the prior weight must be finite and non-negative");
   }
-  JointIdentificationResult result;
   const int B = static_cast<int>(model.bodies().size());
   if (!options.frozen_bodies.empty() && static_cast<int>(options.frozen_bodies.size()) != B) {
     throw std::invalid_argument("identification: frozen_bodies must have one flag per estimated body");
@@ -175,25 +180,92 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
     throw std::invalid_argument("identification: the initial parameters must be " + std::to_string(P) +
                                 " finite numbers");
   }
+}
+
+// One block of the coefficients' Jacobian J_w: rows [row, row + rows) (features), columns
+// [col, col + cols) (parameters).
+struct JacobianBlock {
+  int row, col, rows, cols;
+};
+
+// J_w is block diagonal up to row placement (RobotDynamics::Coefficients): a 10 x 10 block per
+// body at its tree body's features, a 1 x 1 (spring, asymmetric: 2 x 2) block per effect term.
+std::vector<JacobianBlock> CoefficientJacobianBlocks(const RobotDynamics& model) {
+  std::vector<JacobianBlock> blocks;
+  const int B = static_cast<int>(model.bodies().size());
+  for (int e = 0; e < B; ++e) blocks.push_back({10 * model.bodies()[e].tree_body, 10 * e, 10, 10});
+  for (const EffectTerm& t : model.effects()) blocks.push_back({t.first_feature, t.first_parameter, t.size(), t.size()});
+  return blocks;
+}
+
+// The Gauss-Newton Hessian H = J_w^T A^T A J_w, block by block: 4 F P * 10 flops instead of the
+// dense product's 2 F P (F + P). AtA_J is workspace.
+void GaussNewtonHessian(const Eigen::MatrixXd& AtA, const Eigen::MatrixXd& J_w, const std::vector<JacobianBlock>& blocks,
+                        int F, int P, Eigen::MatrixXd& AtA_J, Eigen::MatrixXd* H) {
+  AtA_J.resize(F, P);
+  for (const JacobianBlock& b : blocks) {
+    AtA_J.middleCols(b.col, b.cols).noalias() = AtA.middleCols(b.row, b.rows) * J_w.block(b.row, b.col, b.rows, b.cols);
+  }
+  H->resize(P, P);
+  for (const JacobianBlock& b : blocks) {
+    H->middleRows(b.col, b.cols).noalias() =
+        J_w.block(b.row, b.col, b.rows, b.cols).transpose() * AtA_J.middleRows(b.row, b.rows);
+  }
+}
+
+// Adds the second-order term sum_k grad_w[k] d2 w_k / dx2 that Gauss-Newton drops. Without it, the
+// fit crawls along the curved valleys that unexcited directions of w make in theta (steep data
+// walls, a floor held only by the regularizer).
+void AddSecondOrderTerms(const RobotDynamics& model, const Eigen::VectorXd& x, const Eigen::VectorXd& w,
+                         const Eigen::VectorXd& grad_w, Eigen::MatrixXd* H) {
+  const int B = static_cast<int>(model.bodies().size());
+  for (int e = 0; e < B; ++e) {
+    const EstimatedBody& body = model.bodies()[e];
+    H->block<10, 10>(10 * e, 10 * e) +=
+        body.map.ContractedHessian(x.segment<10>(10 * e), grad_w.segment<10>(10 * body.tree_body));
+  }
+  for (const EffectTerm& t : model.effects()) {
+    const int p = t.first_parameter, f = t.first_feature;
+    if (t.kind == EffectKind::kOffset) continue;
+    (*H)(p, p) += grad_w[f] * w[f];  // w = e^s: d2w/ds2 = w
+    if (t.kind == EffectKind::kAsymmetric) (*H)(p + 1, p + 1) += grad_w[f + 1] * w[f + 1];
+    if (t.kind == EffectKind::kSpring) {  // w[f + 1] = e^s q0
+      (*H)(p, p) += grad_w[f + 1] * w[f + 1];
+      (*H)(p, p + 1) += grad_w[f + 1] * w[f];
+      (*H)(p + 1, p) += grad_w[f + 1] * w[f];
+    }
+  }
+}
+
+// Frozen bodies: zero gradient and a decoupled unit Hessian block, so every step leaves them.
+void FreezeBodies(const std::vector<bool>& frozen_bodies, int B, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
+  for (int e = 0; e < B; ++e) {
+    if (!IsFrozen(frozen_bodies, e)) continue;
+    g->segment<10>(10 * e).setZero();
+    H->middleRows(10 * e, 10).setZero();
+    H->middleCols(10 * e, 10).setZero();
+    H->block<10, 10>(10 * e, 10 * e).setIdentity();
+  }
+}
+
+}  // namespace
+
+JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
+                                             const JointIdentificationOptions& options) {
+  CheckIdentificationInputs(model, data, options);
+  const int F = model.num_features(), P = model.num_parameters();
+  JointIdentificationResult result;
+  const int B = static_cast<int>(model.bodies().size());
   Eigen::VectorXd x0 =
       options.initial.size() != 0 ? options.initial : DefaultInitialParameters(model, data, options.frozen_bodies);
-  auto frozen = [&](int e) { return !options.frozen_bodies.empty() && options.frozen_bodies[e]; };
   for (int e = 0; e < B; ++e) {
-    if (frozen(e)) x0.segment<10>(10 * e).setZero();
+    if (IsFrozen(options.frozen_bodies, e)) x0.segment<10>(10 * e).setZero();
   }
   result.x_initial = x0;
 
   const double gamma = options.prior_weight;
   Eigen::MatrixXd J_w, AtA_J;
-  // J_w is block diagonal up to row placement (RobotDynamics::Coefficients): a 10 x 10 block per
-  // body at its tree body's features, a 1 x 1 (spring, asymmetric: 2 x 2) block per effect term. H = J_w^T A^T A
-  // J_w block by block costs 4 F P * 10 flops instead of the dense product's 2 F P (F + P).
-  struct Block {
-    int row, col, rows, cols;
-  };
-  std::vector<Block> blocks;
-  for (int e = 0; e < B; ++e) blocks.push_back({10 * model.bodies()[e].tree_body, 10 * e, 10, 10});
-  for (const EffectTerm& t : model.effects()) blocks.push_back({t.first_feature, t.first_parameter, t.size(), t.size()});
+  const std::vector<JacobianBlock> blocks = CoefficientJacobianBlocks(model);
   Matrix10 J_r;
   // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b): data through A^T A only.
   auto problem = [&](const Eigen::VectorXd& x, double* cost, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
@@ -205,37 +277,8 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
     if (derivatives) {
       const Eigen::VectorXd grad_w = Hw - data.Atb;
       *g = J_w.transpose() * grad_w;
-      AtA_J.resize(F, P);
-      for (const Block& b : blocks) {
-        AtA_J.middleCols(b.col, b.cols).noalias() =
-            data.AtA.middleCols(b.row, b.rows) * J_w.block(b.row, b.col, b.rows, b.cols);
-      }
-      H->resize(P, P);
-      for (const Block& b : blocks) {
-        H->middleRows(b.col, b.cols).noalias() =
-            J_w.block(b.row, b.col, b.rows, b.cols).transpose() * AtA_J.middleRows(b.row, b.rows);
-      }
-      if (options.newton) {
-        // The second-order term sum_k grad_w[k] d2 w_k / dx2 that Gauss-Newton drops. Without it,
-        // the fit crawls along the curved valleys that unexcited directions of w make in theta
-        // (steep data walls, a floor held only by the regularizer).
-        for (int e = 0; e < B; ++e) {
-          const EstimatedBody& body = model.bodies()[e];
-          H->block<10, 10>(10 * e, 10 * e) +=
-              body.map.ContractedHessian(x.segment<10>(10 * e), grad_w.segment<10>(10 * body.tree_body));
-        }
-        for (const EffectTerm& t : model.effects()) {
-          const int p = t.first_parameter, f = t.first_feature;
-          if (t.kind == EffectKind::kOffset) continue;
-          (*H)(p, p) += grad_w[f] * w[f];  // w = e^s: d2w/ds2 = w
-          if (t.kind == EffectKind::kAsymmetric) (*H)(p + 1, p + 1) += grad_w[f + 1] * w[f + 1];
-          if (t.kind == EffectKind::kSpring) {  // w[f + 1] = e^s q0
-            (*H)(p, p) += grad_w[f + 1] * w[f + 1];
-            (*H)(p, p + 1) += grad_w[f + 1] * w[f];
-            (*H)(p + 1, p) += grad_w[f + 1] * w[f];
-          }
-        }
-      }
+      GaussNewtonHessian(data.AtA, J_w, blocks, F, P, AtA_J, H);
+      if (options.newton) AddSecondOrderTerms(model, x, w, grad_w, H);
     }
     for (int e = 0; e < B; ++e) {
       const Vector10 r =
@@ -246,16 +289,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
         H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
       }
     }
-    if (derivatives) {
-      // Frozen bodies: zero gradient and a decoupled unit Hessian block, so every step leaves them.
-      for (int e = 0; e < B; ++e) {
-        if (!frozen(e)) continue;
-        g->segment<10>(10 * e).setZero();
-        H->middleRows(10 * e, 10).setZero();
-        H->middleCols(10 * e, 10).setZero();
-        H->block<10, 10>(10 * e, 10 * e).setIdentity();
-      }
-    }
+    if (derivatives) FreezeBodies(options.frozen_bodies, B, g, H);
     *cost = 0.5 * (data_sq + gamma * reg);
     return std::isfinite(*cost);
   };

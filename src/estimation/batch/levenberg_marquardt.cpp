@@ -18,6 +18,70 @@ std::string_view ToString(StopReason reason) {
   return "unknown";
 }
 
+namespace {
+
+// The iterate of the Levenberg-Marquardt loop: the parameters x, their pi, the cost F at x, and the
+// damping lambda with its growth factor nu.
+struct LmState {
+  Vector10 x;
+  Vector10 pi;
+  double F = 0.0;
+  double lambda = 0.0;
+  double nu = 2.0;
+};
+
+// Tries damped Gauss-Newton steps from s.x, raising the damping until the cost decreases, and takes
+// the first that does. Returns true, with *reason, when the fit stops here (a step too small, a
+// decrease below the function tolerance, a numerical failure); false when a step was taken and the
+// iterations go on. cost_at(x, &pi) evaluates the cost and leaves the residual at x.
+template <typename CostAt>
+bool TakeDampedStep(const Matrix10& H, const Vector10& g, const LevenbergMarquardtOptions& options, CostAt& cost_at,
+                    LmState& s, StopReason* reason) {
+  const Vector10 diag = H.diagonal().cwiseMax(1e-12 * std::max(H.diagonal().maxCoeff(), 1e-300));
+  while (true) {
+    Matrix10 damped = H;
+    damped.diagonal() += s.lambda * diag;
+    const Vector10 dx = damped.ldlt().solve(-g);
+    if (!dx.allFinite()) {
+      *reason = StopReason::kNumericalFailure;
+      return true;
+    }
+    if (dx.norm() <= options.step_tolerance * (options.step_tolerance + s.x.norm())) {
+      *reason = StopReason::kStep;
+      return true;
+    }
+    const Vector10 x_trial = s.x + dx;
+    Vector10 pi_trial;
+    const double F_trial = cost_at(x_trial, &pi_trial);
+    // Predicted decrease of the damped Gauss-Newton model: -g.dx - 0.5 dx.H.dx = 0.5 dx.(lambda D dx - g).
+    const double predicted = 0.5 * dx.dot(s.lambda * diag.cwiseProduct(dx) - g);
+    const double actual = s.F - F_trial;
+    if (std::isfinite(F_trial) && actual > 0.0) {
+      const double rho = predicted > 0.0 ? actual / predicted : 1.0;
+      s.lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      s.nu = 2.0;
+      const double F_old = s.F;
+      s.x = x_trial;
+      s.pi = pi_trial;
+      s.F = F_trial;  // r now holds the residual at the new x
+      if (actual <= options.function_tolerance * F_old) {
+        *reason = StopReason::kFunction;
+        return true;
+      }
+      return false;
+    }
+    s.lambda *= s.nu;
+    s.nu *= 2.0;
+    if (s.lambda > 1e16) {
+      cost_at(s.x, &s.pi);  // restore r at x
+      *reason = StopReason::kNumericalFailure;
+      return true;
+    }
+  }
+}
+
+}  // namespace
+
 LevenbergMarquardtResult FitLevenbergMarquardt(const Parameterization& parameterization,
                                                const LinearRegression& regression, const Vector10& x0,
                                                const LevenbergMarquardtOptions& options) {
@@ -40,28 +104,28 @@ LevenbergMarquardtResult FitLevenbergMarquardt(const Parameterization& parameter
     return 0.5 * r.squaredNorm();
   };
 
-  Vector10 x = x0;
-  Vector10 pi;
-  double F = cost_at(x, &pi);
-  result.initial_cost = F;
-  double lambda = options.initial_damping;
-  double nu = 2.0;
+  LmState s;
+  s.x = x0;
+  s.F = cost_at(s.x, &s.pi);
+  result.initial_cost = s.F;
+  s.lambda = options.initial_damping;
+  s.nu = 2.0;
   double g0_norm = -1.0;
   result.reason = StopReason::kMaxIterations;
 
   auto finish = [&](StopReason reason) {
-    result.x = x;
-    result.pi = parameterization.ToPi(x);
-    result.cost = F;
+    result.x = s.x;
+    result.pi = parameterization.ToPi(s.x);
+    result.cost = s.F;
     result.reason = reason;
     return result;
   };
-  if (!std::isfinite(F)) return finish(StopReason::kNumericalFailure);
+  if (!std::isfinite(s.F)) return finish(StopReason::kNumericalFailure);
 
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     result.iterations = iteration;
     // Residual r at x is current (cost_at was last called at x, or re-evaluated below).
-    parameterization.ToPi(x, &J_pi_x);
+    parameterization.ToPi(s.x, &J_pi_x);
     JA.noalias() = A * J_pi_x;
     const Matrix10 H = JA.transpose() * JA;
     const Vector10 g = JA.transpose() * r;
@@ -69,40 +133,8 @@ LevenbergMarquardtResult FitLevenbergMarquardt(const Parameterization& parameter
     const double g_norm = g.lpNorm<Eigen::Infinity>();
     if (g0_norm < 0.0) g0_norm = g_norm;
     if (g_norm <= options.gradient_tolerance * std::max(1.0, g0_norm)) return finish(StopReason::kGradient);
-
-    const Vector10 diag = H.diagonal().cwiseMax(1e-12 * std::max(H.diagonal().maxCoeff(), 1e-300));
-    while (true) {
-      Matrix10 damped = H;
-      damped.diagonal() += lambda * diag;
-      const Vector10 dx = damped.ldlt().solve(-g);
-      if (!dx.allFinite()) return finish(StopReason::kNumericalFailure);
-      if (dx.norm() <= options.step_tolerance * (options.step_tolerance + x.norm())) {
-        return finish(StopReason::kStep);
-      }
-      const Vector10 x_trial = x + dx;
-      Vector10 pi_trial;
-      const double F_trial = cost_at(x_trial, &pi_trial);
-      // Predicted decrease of the damped Gauss-Newton model: -g.dx - 0.5 dx.H.dx = 0.5 dx.(lambda D dx - g).
-      const double predicted = 0.5 * dx.dot(lambda * diag.cwiseProduct(dx) - g);
-      const double actual = F - F_trial;
-      if (std::isfinite(F_trial) && actual > 0.0) {
-        const double rho = predicted > 0.0 ? actual / predicted : 1.0;
-        lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-        nu = 2.0;
-        const double F_old = F;
-        x = x_trial;
-        pi = pi_trial;
-        F = F_trial;  // r now holds the residual at the new x
-        if (actual <= options.function_tolerance * F_old) return finish(StopReason::kFunction);
-        break;
-      }
-      lambda *= nu;
-      nu *= 2.0;
-      if (lambda > 1e16) {
-        cost_at(x, &pi);  // restore r at x
-        return finish(StopReason::kNumericalFailure);
-      }
-    }
+    StopReason reason = StopReason::kMaxIterations;
+    if (TakeDampedStep(H, g, options, cost_at, s, &reason)) return finish(reason);
   }
   return finish(StopReason::kMaxIterations);
 }

@@ -197,6 +197,50 @@ void Report(const std::vector<int>& non_finite, const std::vector<std::string>& 
   report->scale = c.scale;
 }
 
+/// Step 1 of the robust fit: the rows that stay candidates (their residuals by the prior, in order)
+/// and those set aside for good for non-finite values, with the first kReasonRows reasons.
+struct FiniteRows {
+  std::vector<int> candidates, non_finite;
+  Eigen::MatrixXd residuals;
+  std::vector<std::string> non_finite_reasons;
+};
+
+/// Sets aside the rows with non-finite values, regressor or prior prediction.
+FiniteRows SplitNonFiniteRows(const RobotDynamics& model, const JointSamples& data) {
+  const int N = data.size();
+  FiniteRows split;
+  std::vector<int> finite_values;
+  for (int i = 0; i < N; ++i) {
+    if (NonFiniteColumn(data, i).empty()) finite_values.push_back(i);
+  }
+  Eigen::MatrixXd& residuals = split.residuals;
+  residuals = Residuals(model, data, finite_values, model.Coefficients(PriorParametersWithoutEffects(model)));
+  std::vector<int>& candidates = split.candidates;
+  std::vector<int>& non_finite = split.non_finite;
+  std::vector<Eigen::Index> candidate_rows;  // into residuals
+  for (int i = 0, r = 0; i < N; ++i) {
+    const bool values_finite = r < static_cast<int>(finite_values.size()) && finite_values[r] == i;
+    if (values_finite && residuals.row(r).allFinite()) {
+      candidates.push_back(i);
+      candidate_rows.push_back(r);
+    } else {
+      non_finite.push_back(i);
+    }
+    if (values_finite) ++r;
+  }
+  if (candidates.size() != finite_values.size()) residuals = Eigen::MatrixXd(residuals(candidate_rows, Eigen::all));
+  std::vector<std::string>& non_finite_reasons = split.non_finite_reasons;
+  for (int i : non_finite) {
+    if (static_cast<int>(non_finite_reasons.size()) >= kReasonRows) break;
+    const std::string column = NonFiniteColumn(data, i);
+    non_finite_reasons.push_back(Where(data, i) + ": " +
+                                 (column.empty() ? "the regressor or the prior's prediction is not finite (" +
+                                                       LargestMotionValue(data, i) + ")"
+                                                 : column));
+  }
+  return split;
+}
+
 }  // namespace
 
 RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, const JointSamples& data,
@@ -217,33 +261,11 @@ RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, 
   const int N = data.size(), n = model.num_dofs();
 
   // Step 1: rows with non-finite values, regressor or prior prediction, for good.
-  std::vector<int> finite_values;
-  for (int i = 0; i < N; ++i) {
-    if (NonFiniteColumn(data, i).empty()) finite_values.push_back(i);
-  }
-  Eigen::MatrixXd residuals = Residuals(model, data, finite_values, model.Coefficients(PriorParametersWithoutEffects(model)));
-  std::vector<int> candidates, non_finite;
-  std::vector<Eigen::Index> candidate_rows;  // into residuals
-  for (int i = 0, r = 0; i < N; ++i) {
-    const bool values_finite = r < static_cast<int>(finite_values.size()) && finite_values[r] == i;
-    if (values_finite && residuals.row(r).allFinite()) {
-      candidates.push_back(i);
-      candidate_rows.push_back(r);
-    } else {
-      non_finite.push_back(i);
-    }
-    if (values_finite) ++r;
-  }
-  if (candidates.size() != finite_values.size()) residuals = Eigen::MatrixXd(residuals(candidate_rows, Eigen::all));
-  std::vector<std::string> non_finite_reasons;
-  for (int i : non_finite) {
-    if (static_cast<int>(non_finite_reasons.size()) >= kReasonRows) break;
-    const std::string column = NonFiniteColumn(data, i);
-    non_finite_reasons.push_back(Where(data, i) + ": " +
-                                 (column.empty() ? "the regressor or the prior's prediction is not finite (" +
-                                                       LargestMotionValue(data, i) + ")"
-                                                 : column));
-  }
+  FiniteRows split = SplitNonFiniteRows(model, data);
+  const std::vector<int>& candidates = split.candidates;
+  const std::vector<int>& non_finite = split.non_finite;
+  const std::vector<std::string>& non_finite_reasons = split.non_finite_reasons;
+  Eigen::MatrixXd& residuals = split.residuals;
   if (N == 0) throw std::invalid_argument("robust identification: no samples");
   if (candidates.empty()) {
     std::string first;
