@@ -152,16 +152,16 @@ bool WriteBody(std::ostringstream& out, const RobotDynamics& model, const Identi
   Vector3 moments;
   Matrix3 axes;
   Principal(I, &moments, &axes);
-  out << "  " << model.bodies()[e].name << ": mass " << FormatNumber(body.mass(, 6)) << " kg (prior "
-      << FormatNumber(prior.mass(, 6)) << "), COM [" << FormatNumber(com.x(, 5)) << ", " << FormatNumber(com.y(, 5))
-      << ", " << FormatNumber(com.z(, 5)) << "] m\n";
-  out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << FormatNumber(I(0, 0, 5)) << " "
-      << FormatNumber(I(1, 1, 5)) << " " << FormatNumber(I(2, 2, 5)) << " " << FormatNumber(I(0, 1, 5)) << " "
-      << FormatNumber(I(1, 2, 5)) << " " << FormatNumber(I(0, 2, 5)) << "] kg m^2\n";
+  out << "  " << model.bodies()[e].name << ": mass " << FormatNumber(body.mass(), 6) << " kg (prior "
+      << FormatNumber(prior.mass(), 6) << "), COM [" << FormatNumber(com.x(), 5) << ", " << FormatNumber(com.y(), 5)
+      << ", " << FormatNumber(com.z(), 5) << "] m\n";
+  out << "    inertia about COM [Ixx Iyy Izz Ixy Iyz Ixz] = [" << FormatNumber(I(0, 0), 5) << " "
+      << FormatNumber(I(1, 1), 5) << " " << FormatNumber(I(2, 2), 5) << " " << FormatNumber(I(0, 1), 5) << " "
+      << FormatNumber(I(1, 2), 5) << " " << FormatNumber(I(0, 2), 5) << "] kg m^2\n";
   out << "    principal moments [" << FormatNumber(moments[0], 5) << " " << FormatNumber(moments[1], 5) << " "
       << FormatNumber(moments[2], 5) << "] kg m^2 about axes";
   for (int k = 0; k < 3; ++k) {
-    out << " (" << FormatFixed(axes(0, k, 3)) << " " << FormatFixed(axes(1, k, 3)) << " " << FormatFixed(axes(2, k, 3))
+    out << " (" << FormatFixed(axes(0, k), 3) << " " << FormatFixed(axes(1, k), 3) << " " << FormatFixed(axes(2, k), 3)
         << ")";
   }
   out << "\n";
