@@ -76,8 +76,10 @@ std::string HtmlEscaped(const std::string& text) {
   return out;
 }
 
-void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d, const std::vector<std::string>& summary,
-                        const std::vector<DiagnosisTableRow>& rows, const std::string& text_report) {
+namespace {
+
+// The sizes of everything plotted agree; std::invalid_argument otherwise.
+void CheckPlotData(const DiagnosisPlotData& d) {
   const int n = static_cast<int>(d.channels.size()), N = static_cast<int>(d.t.size());
   if (n == 0 || N == 0 || d.measured.rows() != N || d.predicted.rows() != N || d.velocity.rows() != N ||
       d.measured.cols() != n || d.predicted.cols() != n || d.velocity.cols() != n ||
@@ -87,143 +89,152 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
   for (const Eigen::VectorXd& e : d.error_rms) {
     if (e.size() != n) throw std::invalid_argument("diagnosis report: an error bar set has the wrong size");
   }
-  const fs::path dir(directory);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("cannot create '" + directory + "': " + ec.message());
+}
 
-  // Data: t, then per channel measured, predicted, residual, velocity.
-  {
-    std::ostringstream out;
-    out << "# t";
-    for (const std::string& c : d.channels) out << " measured_" << c << " model_" << c << " residual_" << c << " velocity_" << c;
+// The data files: heldout.dat (t, then per channel measured, predicted, residual, velocity),
+// errors.dat (the RMS per channel of each error set) and, with an effect curve, effect.dat.
+void WritePlotData(const fs::path& dir, const DiagnosisPlotData& d) {
+  const int n = static_cast<int>(d.channels.size()), N = static_cast<int>(d.t.size());
+  std::ostringstream out;
+  out << "# t";
+  for (const std::string& c : d.channels) out << " measured_" << c << " model_" << c << " residual_" << c << " velocity_" << c;
+  out << "\n";
+  const int stride = std::max(1, (N + kMaxPlottedSamples - 1) / kMaxPlottedSamples);
+  for (int i = 0; i < N; i += stride) {
+    out << Number(d.t[i], 9);
+    for (int k = 0; k < n; ++k) {
+      out << " " << Number(d.measured(i, k), 7) << " " << Number(d.predicted(i, k), 7) << " "
+          << Number(d.predicted(i, k) - d.measured(i, k), 7) << " " << Number(d.velocity(i, k), 7);
+    }
     out << "\n";
-    const int stride = std::max(1, (N + kMaxPlottedSamples - 1) / kMaxPlottedSamples);
-    for (int i = 0; i < N; i += stride) {
-      out << Number(d.t[i], 9);
-      for (int k = 0; k < n; ++k) {
-        out << " " << Number(d.measured(i, k), 7) << " " << Number(d.predicted(i, k), 7) << " "
-            << Number(d.predicted(i, k) - d.measured(i, k), 7) << " " << Number(d.velocity(i, k), 7);
-      }
-      out << "\n";
-    }
-    WriteFile(dir / "heldout.dat", out.str());
-    std::ostringstream errors;
-    errors << "# channel";
-    for (const std::string& l : d.error_labels) errors << " \"" << l << "\"";
+  }
+  WriteFile(dir / "heldout.dat", out.str());
+  std::ostringstream errors;
+  errors << "# channel";
+  for (const std::string& l : d.error_labels) errors << " \"" << l << "\"";
+  errors << "\n";
+  for (int k = 0; k < n; ++k) {
+    errors << "\"" << d.channels[k] << "\"";
+    for (const Eigen::VectorXd& e : d.error_rms) errors << " " << Number(e[k], 7);
     errors << "\n";
-    for (int k = 0; k < n; ++k) {
-      errors << "\"" << d.channels[k] << "\"";
-      for (const Eigen::VectorXd& e : d.error_rms) errors << " " << Number(e[k], 7);
-      errors << "\n";
-    }
-    WriteFile(dir / "errors.dat", errors.str());
-    if (d.effect_velocity.rows() > 0) {
-      if (d.effect_velocity.cols() != n || d.effect_residual.rows() != d.effect_velocity.rows() ||
-          d.effect_residual.cols() != n) {
-        throw std::invalid_argument("diagnosis report: the effect curve has the wrong size");
-      }
-      std::ostringstream curve;
-      curve << "# per channel: velocity, residual the fitted effect explains\n";
-      for (Eigen::Index i = 0; i < d.effect_velocity.rows(); ++i) {
-        for (int k = 0; k < n; ++k) {
-          curve << (k ? " " : "") << Number(d.effect_velocity(i, k), 7) << " "
-                << (std::isfinite(d.effect_residual(i, k)) ? Number(d.effect_residual(i, k), 7) : "NaN");
-        }
-        curve << "\n";
-      }
-      WriteFile(dir / "effect.dat", curve.str());
-    }
   }
-  const bool curve = d.effect_velocity.rows() > 0;
-  std::string shading;
-  for (const auto& [t0, t1] : d.marked_windows) {
-    shading += "set object rect from " + Number(t0, 9) + ", graph 0 to " + Number(t1, 9) +
-               ", graph 1 behind fc rgb '#ffd8d0' fs solid 0.6 noborder\n";
+  WriteFile(dir / "errors.dat", errors.str());
+  if (d.effect_velocity.rows() > 0) {
+    if (d.effect_velocity.cols() != n || d.effect_residual.rows() != d.effect_velocity.rows() ||
+        d.effect_residual.cols() != n) {
+      throw std::invalid_argument("diagnosis report: the effect curve has the wrong size");
+    }
+    std::ostringstream curve;
+    curve << "# per channel: velocity, residual the fitted effect explains\n";
+    for (Eigen::Index i = 0; i < d.effect_velocity.rows(); ++i) {
+      for (int k = 0; k < n; ++k) {
+        curve << (k ? " " : "") << Number(d.effect_velocity(i, k), 7) << " "
+              << (std::isfinite(d.effect_residual(i, k)) ? Number(d.effect_residual(i, k), 7) : "NaN");
+      }
+      curve << "\n";
+    }
+    WriteFile(dir / "effect.dat", curve.str());
   }
+}
+
+// The start of a figure of one panel per channel (n panels, `height` pixels).
+void BeginMultiplot(std::ostringstream& gp, int n, const std::string& png, const std::string& title) {
   const int height = std::max(300, 170 * n);
-  auto multiplot = [&](std::ostringstream& gp, const std::string& png, const std::string& title) {
-    gp << "set terminal pngcairo size 1200," << height << " font 'sans,10'\n"
-       << "set output '" << png << "'\n"
-       << "set multiplot layout " << n << ",1 title " << GnuplotQuoted(title) << "\n"
-       << "set termoption noenhanced\n"  // names like lwr_0_joint and coulomb@knee are not markup
-       << "set grid\nset key outside right top\nset lmargin 12\nset rmargin 22\n"
-       // Axes span the data: x exactly, y with 5 % of room.
-       << "set autoscale xfix\nset offsets 0, 0, graph 0.05, graph 0.05\n";
-  };
-  std::vector<std::pair<std::string, std::string>> figures;  // file, caption
-  {
-    std::ostringstream gp;
-    multiplot(gp, "torques.png", d.title + ": measured and model (held-out data; worst windows shaded)");
-    gp << shading;
-    for (int k = 0; k < n; ++k) {
-      gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
-         << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
-         << "plot 'heldout.dat' using 1:" << 2 + 4 * k << " with lines lw 1 lc rgb '#888888' title 'measured', "
-         << "'' using 1:" << 3 + 4 * k << " with lines lw 1.5 lc rgb '#c03020' title 'model'\n";
-    }
-    gp << "unset multiplot\n";
-    WriteFile(dir / "torques.gp", gp.str());
-    figures.push_back({"torques.png", "Measured and model output per channel on the held-out data."});
+  gp << "set terminal pngcairo size 1200," << height << " font 'sans,10'\n"
+     << "set output '" << png << "'\n"
+     << "set multiplot layout " << n << ",1 title " << GnuplotQuoted(title) << "\n"
+     << "set termoption noenhanced\n"  // names like lwr_0_joint and coulomb@knee are not markup
+     << "set grid\nset key outside right top\nset lmargin 12\nset rmargin 22\n"
+     // Axes span the data: x exactly, y with 5 % of room.
+     << "set autoscale xfix\nset offsets 0, 0, graph 0.05, graph 0.05\n";
+}
+
+using Figure = std::pair<std::string, std::string>;  // file, caption
+
+// torques.png: measured and model per channel, the worst windows shaded.
+Figure TorquesFigure(const fs::path& dir, const DiagnosisPlotData& d, const std::string& shading) {
+  const int n = static_cast<int>(d.channels.size());
+  std::ostringstream gp;
+  BeginMultiplot(gp, n, "torques.png", d.title + ": measured and model (held-out data; worst windows shaded)");
+  gp << shading;
+  for (int k = 0; k < n; ++k) {
+    gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
+       << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
+       << "plot 'heldout.dat' using 1:" << 2 + 4 * k << " with lines lw 1 lc rgb '#888888' title 'measured', "
+       << "'' using 1:" << 3 + 4 * k << " with lines lw 1.5 lc rgb '#c03020' title 'model'\n";
   }
-  {
-    std::ostringstream gp;
-    multiplot(gp, "residual_time.png", d.title + ": residual (model - measured) against time (worst windows shaded)");
-    gp << shading;
-    for (int k = 0; k < n; ++k) {
-      gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
-         << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
-         << "plot 'heldout.dat' using 1:" << 4 + 4 * k << " with lines lw 1 lc rgb '#3060a0' title 'residual'\n";
-    }
-    gp << "unset multiplot\n";
-    WriteFile(dir / "residual_time.gp", gp.str());
-    figures.push_back({"residual_time.png", "Residual against time: where the model fails."});
+  gp << "unset multiplot\n";
+  WriteFile(dir / "torques.gp", gp.str());
+  return {"torques.png", "Measured and model output per channel on the held-out data."};
+
+}
+
+// residual_time.png: the residual against time, the worst windows shaded.
+Figure ResidualTimeFigure(const fs::path& dir, const DiagnosisPlotData& d, const std::string& shading) {
+  const int n = static_cast<int>(d.channels.size());
+  std::ostringstream gp;
+  BeginMultiplot(gp, n, "residual_time.png", d.title + ": residual (model - measured) against time (worst windows shaded)");
+  gp << shading;
+  for (int k = 0; k < n; ++k) {
+    gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
+       << (k == n - 1 ? "set xlabel 't [s]'\n" : "unset xlabel\n")
+       << "plot 'heldout.dat' using 1:" << 4 + 4 * k << " with lines lw 1 lc rgb '#3060a0' title 'residual'\n";
   }
-  {
-    std::ostringstream gp;
-    multiplot(gp, "residual_velocity.png", d.title + ": residual against velocity (friction signature)");
-    for (int k = 0; k < n; ++k) {
-      gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
-         << "set xlabel " << GnuplotQuoted(d.velocity_label) << "\n"
-         << "plot 'heldout.dat' using " << 5 + 4 * k << ":" << 4 + 4 * k
-         << " with points pt 7 ps 0.25 lc rgb '#3060a0' title 'residual'";
-      if (curve && std::isfinite(d.effect_residual.col(k).sum())) {
-        gp << ", 'effect.dat' using " << 1 + 2 * k << ":" << 2 + 2 * k << " with lines lw 2.5 lc rgb '#d07000' title "
-           << GnuplotQuoted(d.effect_label);
-      }
-      gp << "\n";
-    }
-    gp << "unset multiplot\n";
-    WriteFile(dir / "residual_velocity.gp", gp.str());
-    figures.push_back({"residual_velocity.png",
-                       "Residual against velocity: a step at zero velocity is Coulomb friction, a slope viscous "
-                       "friction." +
-                           std::string(curve ? " The orange curve is the top suggestion's fitted effect." : "")});
-  }
-  {
-    std::ostringstream gp;
-    gp << "set terminal pngcairo size 1200,450 font 'sans,10'\nset output 'errors.png'\nset termoption noenhanced\n"
-       << "set title " << GnuplotQuoted(d.title + ": held-out RMS error before and after each effect") << "\n"
-       << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
-       << "set ylabel " << GnuplotQuoted("RMS [" + d.unit + "]") << "\nset grid ytics\nset key outside right top\n"
-       << "set yrange [0:*]\n";
-    gp << "plot ";
-    for (size_t e = 0; e < d.error_labels.size(); ++e) {
-      gp << (e ? ", " : "") << "'errors.dat' using " << e + 2 << (e == 0 ? ":xtic(1)" : "") << " title "
-         << GnuplotQuoted(d.error_labels[e]);
+  gp << "unset multiplot\n";
+  WriteFile(dir / "residual_time.gp", gp.str());
+  return {"residual_time.png", "Residual against time: where the model fails."};
+
+}
+
+// residual_velocity.png: the residual against velocity, with the top suggestion's curve if any.
+Figure ResidualVelocityFigure(const fs::path& dir, const DiagnosisPlotData& d) {
+  const int n = static_cast<int>(d.channels.size());
+  const bool curve = d.effect_velocity.rows() > 0;
+  std::ostringstream gp;
+  BeginMultiplot(gp, n, "residual_velocity.png", d.title + ": residual against velocity (friction signature)");
+  for (int k = 0; k < n; ++k) {
+    gp << "set ylabel " << GnuplotQuoted(d.channels[k] + " [" + d.unit + "]") << "\n"
+       << "set xlabel " << GnuplotQuoted(d.velocity_label) << "\n"
+       << "plot 'heldout.dat' using " << 5 + 4 * k << ":" << 4 + 4 * k
+       << " with points pt 7 ps 0.25 lc rgb '#3060a0' title 'residual'";
+    if (curve && std::isfinite(d.effect_residual.col(k).sum())) {
+      gp << ", 'effect.dat' using " << 1 + 2 * k << ":" << 2 + 2 * k << " with lines lw 2.5 lc rgb '#d07000' title "
+         << GnuplotQuoted(d.effect_label);
     }
     gp << "\n";
-    WriteFile(dir / "errors.gp", gp.str());
-    figures.push_back({"errors.png", "Held-out RMS per channel before and after each effect."});
   }
-  for (const auto& [png, caption] : figures) {
-    const std::string script = png.substr(0, png.size() - 4) + ".gp";
-    RunGnuplot(dir, script);
-    if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0) {
-      throw std::runtime_error("gnuplot produced no '" + (dir / png).string() + "'");
-    }
-  }
+  gp << "unset multiplot\n";
+  WriteFile(dir / "residual_velocity.gp", gp.str());
+  return {"residual_velocity.png",
+                     "Residual against velocity: a step at zero velocity is Coulomb friction, a slope viscous "
+                     "friction." +
+                         std::string(curve ? " The orange curve is the top suggestion's fitted effect." : "")};
 
+}
+
+// errors.png: the held-out RMS per channel before and after each effect.
+Figure ErrorsFigure(const fs::path& dir, const DiagnosisPlotData& d) {
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1200,450 font 'sans,10'\nset output 'errors.png'\nset termoption noenhanced\n"
+     << "set title " << GnuplotQuoted(d.title + ": held-out RMS error before and after each effect") << "\n"
+     << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+     << "set ylabel " << GnuplotQuoted("RMS [" + d.unit + "]") << "\nset grid ytics\nset key outside right top\n"
+     << "set yrange [0:*]\n";
+  gp << "plot ";
+  for (size_t e = 0; e < d.error_labels.size(); ++e) {
+    gp << (e ? ", " : "") << "'errors.dat' using " << e + 2 << (e == 0 ? ":xtic(1)" : "") << " title "
+       << GnuplotQuoted(d.error_labels[e]);
+  }
+  gp << "\n";
+  WriteFile(dir / "errors.gp", gp.str());
+  return {"errors.png", "Held-out RMS per channel before and after each effect."};
+
+}
+
+// index.html: the summary, the ranking table, the figures inline and the text report.
+std::string DiagnosisPage(const fs::path& dir, const DiagnosisPlotData& d, const std::vector<std::string>& summary,
+                          const std::vector<DiagnosisTableRow>& rows, const std::vector<Figure>& figures,
+                          const std::string& text_report) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" << HtmlEscaped(d.title)
        << "</title>\n<style>\nbody{font-family:sans-serif;max-width:1250px;margin:1em auto;padding:0 1em;color:#222}\n"
@@ -251,7 +262,35 @@ void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d
          << HtmlEscaped(caption) << "\" src=\"data:image/png;base64," << Base64(ReadBinary(dir / png)) << "\">\n";
   }
   html << "<h2>Text report</h2>\n<pre>" << HtmlEscaped(text_report) << "</pre>\n</body>\n</html>\n";
-  WriteFile(dir / "index.html", html.str());
+  return html.str();
+}
+
+}  // namespace
+
+void WriteDiagnosisHtml(const std::string& directory, const DiagnosisPlotData& d, const std::vector<std::string>& summary,
+                        const std::vector<DiagnosisTableRow>& rows, const std::string& text_report) {
+  CheckPlotData(d);
+  const fs::path dir(directory);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create '" + directory + "': " + ec.message());
+  WritePlotData(dir, d);
+  std::string shading;
+  for (const auto& [t0, t1] : d.marked_windows) {
+    shading += "set object rect from " + Number(t0, 9) + ", graph 0 to " + Number(t1, 9) +
+               ", graph 1 behind fc rgb '#ffd8d0' fs solid 0.6 noborder\n";
+  }
+  const std::vector<Figure> figures = {TorquesFigure(dir, d, shading), ResidualTimeFigure(dir, d, shading),
+                                       ResidualVelocityFigure(dir, d), ErrorsFigure(dir, d)};
+  for (const auto& [png, caption] : figures) {
+    const std::string script = png.substr(0, png.size() - 4) + ".gp";
+    RunGnuplot(dir, script);
+    if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0) {
+      throw std::runtime_error("gnuplot produced no '" + (dir / png).string() + "'");
+    }
+  }
+
+  WriteFile(dir / "index.html", DiagnosisPage(dir, d, summary, rows, figures, text_report));
 }
 
 const std::vector<std::string>& DiagnosisReportFileNames() {
