@@ -87,13 +87,10 @@ std::string ChangeSummary(const UrdfModelChanges& changes, const std::map<std::s
 
 namespace {
 
-void WriteChanges(const std::string& in_path, const std::string& out_path, const UrdfModelChanges& changes,
-                  const std::map<std::string, JointDynamics>& dynamics) {
-  const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
-  const std::set<std::string>& removed_inertials = changes.removed_inertials;
-  const std::string xml = ReadUrdfFile(in_path);
+using ElementsByName = std::map<std::string, tinyxml2::XMLElement*>;
 
-  tinyxml2::XMLDocument doc;
+// The URDF text parsed into doc; its <robot> element. UrdfError naming in_path otherwise.
+tinyxml2::XMLElement* ParseRobot(const std::string& xml, const std::string& in_path, tinyxml2::XMLDocument& doc) {
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
     throw UrdfError(in_path + ": is not a valid URDF: " + detail::DescribeXmlError(doc));
   }
@@ -101,9 +98,15 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
   if (robot == nullptr || std::strcmp(robot->Name(), "robot") != 0) {
     throw UrdfError(in_path + ": is not a valid URDF: the root element is not <robot>");
   }
+  return robot;
+}
 
-  const std::map<std::string, tinyxml2::XMLElement*> links = ChildrenByName(robot, "link");
-  const std::map<std::string, tinyxml2::XMLElement*> joints = ChildrenByName(robot, "joint");
+// Every change names a link or joint of the file, no link is both given an inertia and stripped of
+// it, and every new value is finite.
+void CheckChanges(const UrdfModelChanges& changes, const std::map<std::string, JointDynamics>& dynamics,
+                  const ElementsByName& links, const ElementsByName& joints, const std::string& in_path) {
+  const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
+  const std::set<std::string>& removed_inertials = changes.removed_inertials;
   RequireKnown(Keys(new_inertias), links, in_path, "link");
   RequireKnown(removed_inertials, links, in_path, "link");
   std::vector<std::string> dynamics_joints;
@@ -121,6 +124,13 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     }
   }
 
+}
+
+// The new <inertial>s (with their notes), the removed ones and the joints' <dynamics>, in doc.
+void ApplyChanges(const UrdfModelChanges& changes, const std::map<std::string, JointDynamics>& dynamics,
+                  const ElementsByName& links, const ElementsByName& joints, tinyxml2::XMLDocument& doc) {
+  const std::map<std::string, InertialParams>& new_inertias = changes.inertias;
+  const std::set<std::string>& removed_inertials = changes.removed_inertials;
   for (const auto& [link_name, pi] : new_inertias) {
     tinyxml2::XMLElement* link = links.at(link_name);
     tinyxml2::XMLElement* inertial = link->FirstChildElement("inertial");
@@ -151,9 +161,11 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     element->SetAttribute("friction", FormatNumber(d.friction, kRoundTripDigits).c_str());
   }
 
-  if (changes.effects) detail::WriteModelEffects(doc, robot, *changes.effects, changes.notes, in_path);
+}
 
-  // One note of ours at the top: an earlier one (the file was written by inertial before) is replaced.
+// One note of ours at the top of doc: an earlier one (the file was written by inertial before) is
+// replaced.
+void ReplaceNote(tinyxml2::XMLDocument& doc, const std::string& note) {
   for (tinyxml2::XMLNode* node = doc.FirstChild(); node != nullptr;) {
     tinyxml2::XMLNode* next = node->NextSibling();
     if (node->ToComment() != nullptr && std::strncmp(node->Value(), kNotePrefix, std::strlen(kNotePrefix)) == 0) {
@@ -161,7 +173,7 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     }
     node = next;
   }
-  tinyxml2::XMLComment* comment = doc.NewComment(ChangeSummary(changes, dynamics, in_path).c_str());
+  tinyxml2::XMLComment* comment = doc.NewComment(note.c_str());
   tinyxml2::XMLNode* first = doc.FirstChild();
   if (first != nullptr && first->ToDeclaration() != nullptr) {
     doc.InsertAfterChild(first, comment);
@@ -169,10 +181,12 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     doc.InsertFirstChild(comment);
   }
 
-  tinyxml2::XMLPrinter printer;
-  doc.Print(&printer);
-  // A temporary file beside the target (a unique name, created exclusively: never an existing file
-  // or a link planted there), renamed over it: never half a file, even on a signal.
+}
+
+// The text written to out_path through a temporary file beside it (a unique name, created
+// exclusively: never an existing file or a link planted there), renamed over it: never half a
+// file, even on a signal.
+void WriteAtomically(const std::string& out_path, const tinyxml2::XMLPrinter& printer) {
   std::error_code status_error;
   const std::filesystem::file_status target = std::filesystem::status(out_path, status_error);
   if (std::filesystem::exists(target) && !std::filesystem::is_regular_file(target)) {
@@ -205,6 +219,22 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     std::remove(temporary.c_str());
     throw UrdfError(out_path + ": cannot write the file (" + rename_error.message() + ")");
   }
+}
+
+void WriteChanges(const std::string& in_path, const std::string& out_path, const UrdfModelChanges& changes,
+                  const std::map<std::string, JointDynamics>& dynamics) {
+  const std::string xml = ReadUrdfFile(in_path);
+  tinyxml2::XMLDocument doc;
+  tinyxml2::XMLElement* robot = ParseRobot(xml, in_path, doc);
+  const ElementsByName links = ChildrenByName(robot, "link");
+  const ElementsByName joints = ChildrenByName(robot, "joint");
+  CheckChanges(changes, dynamics, links, joints, in_path);
+  ApplyChanges(changes, dynamics, links, joints, doc);
+  if (changes.effects) detail::WriteModelEffects(doc, robot, *changes.effects, changes.notes, in_path);
+  ReplaceNote(doc, ChangeSummary(changes, dynamics, in_path));
+  tinyxml2::XMLPrinter printer;
+  doc.Print(&printer);
+  WriteAtomically(out_path, printer);
 }
 
 }  // namespace
