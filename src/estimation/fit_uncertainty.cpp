@@ -72,9 +72,11 @@ Matrix10 ReportFrameMap(const EstimatedBody& body) {
   return L;
 }
 
-FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
-                                      const Eigen::VectorXd& x, double prior_weight,
-                                      const std::vector<bool>& frozen_bodies) {
+namespace {
+
+// The inputs' sizes and values; std::invalid_argument naming the wrong one.
+void CheckUncertaintyInputs(const RobotDynamics& model, const JointNormalEquations& data, const Eigen::VectorXd& x,
+                            double prior_weight, const std::vector<bool>& frozen_bodies) {
   const int F = model.num_features(), P = model.num_parameters();
   const int B = static_cast<int>(model.bodies().size());
   if (data.AtA.rows() != F || data.AtA.cols() != F || data.Atb.size() != F) {
@@ -89,41 +91,153 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   if (!frozen_bodies.empty() && static_cast<int>(frozen_bodies.size()) != B) {
     throw std::invalid_argument("fit uncertainty: frozen_bodies must have one flag per estimated body");
   }
-  auto frozen = [&](int e) { return !frozen_bodies.empty() && frozen_bodies[e]; };
+}
 
-  // The estimated parameters (frozen bodies left out) and their position among them.
-  std::vector<int> free_index;
-  std::vector<int> position(P, -1);
+// The estimated parameters (frozen bodies left out), and each parameter's position among them (-1:
+// frozen).
+struct FreeParameters {
+  std::vector<int> index;
+  std::vector<int> position;
+  int size() const { return static_cast<int>(index.size()); }
+};
+
+FreeParameters ListFreeParameters(int P, int B, const std::vector<bool>& frozen_bodies) {
+  FreeParameters f;
+  f.position.assign(P, -1);
   for (int p = 0; p < P; ++p) {
-    if (p < 10 * B && frozen(p / 10)) continue;
-    position[p] = static_cast<int>(free_index.size());
-    free_index.push_back(p);
+    if (p < 10 * B && !frozen_bodies.empty() && frozen_bodies[p / 10]) continue;
+    f.position[p] = f.size();
+    f.index.push_back(p);
   }
-  const int n = static_cast<int>(free_index.size());
+  return f;
+}
 
-  // Gauss-Newton Hessian of F (as IdentifyJointModel forms it), on the estimated parameters.
-  Eigen::MatrixXd J_w_x;
-  const Eigen::VectorXd w = model.Coefficients(x, &J_w_x);
+// The Gauss-Newton Hessian of F (as IdentifyJointModel forms it) on the estimated parameters: the
+// data's part, the prior's part per body, and their sum.
+struct FitHessian {
+  Eigen::MatrixXd data;
+  std::vector<Matrix10> prior;
+  Eigen::MatrixXd total;
+};
+
+FitHessian HessianOfTheFit(const RobotDynamics& model, const JointNormalEquations& data, const Eigen::VectorXd& x,
+                           double prior_weight, const FreeParameters& free, const Eigen::MatrixXd& J_w_x,
+                           const std::vector<bool>& frozen_bodies) {
+  const int F = model.num_features(), n = free.size();
+  const int B = static_cast<int>(model.bodies().size());
   Eigen::MatrixXd J_w_free(F, n);
-  for (int i = 0; i < n; ++i) J_w_free.col(i) = J_w_x.col(free_index[i]);
-  const Eigen::MatrixXd H_data = J_w_free.transpose() * data.AtA * J_w_free;
-  Eigen::MatrixXd H = H_data;
-  std::vector<Matrix10> H_prior(B, Matrix10::Zero());
+  for (int i = 0; i < n; ++i) J_w_free.col(i) = J_w_x.col(free.index[i]);
+  FitHessian h;
+  h.data = J_w_free.transpose() * data.AtA * J_w_free;
+  h.total = h.data;
+  h.prior.assign(B, Matrix10::Zero());
   for (int e = 0; e < B; ++e) {
-    if (frozen(e)) continue;
+    if (!frozen_bodies.empty() && frozen_bodies[e]) continue;
     Matrix10 J_r_theta;
     LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), &J_r_theta);
-    H_prior[e] = prior_weight * J_r_theta.transpose() * J_r_theta;
-    H.block<10, 10>(position[10 * e], position[10 * e]) += H_prior[e];
+    h.prior[e] = prior_weight * J_r_theta.transpose() * J_r_theta;
+    h.total.block<10, 10>(free.position[10 * e], free.position[10 * e]) += h.prior[e];
   }
-  const ScaledHessian scaled = DecomposeScaled(H);
+  return h;
+}
+
+// Body e's standard deviations (every quantity through its gradient with respect to theta_e) and
+// which of them the prior holds, into u.
+void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& x, int e, const FreeParameters& free,
+                             const FitHessian& hessian, const ScaledHessian& scaled, const Eigen::MatrixXd& H_pinv,
+                             const Eigen::MatrixXd& C_free, double prior_weight,
+                             const std::vector<bool>& frozen_bodies, FitUncertainty& u) {
+  const int B = static_cast<int>(model.bodies().size());
+  const std::vector<int>& position = free.position;
+  const Eigen::MatrixXd& H_data = hessian.data;
+  const std::vector<Matrix10>& H_prior = hessian.prior;
+  auto frozen = [&](int b) { return !frozen_bodies.empty() && frozen_bodies[b]; };
+  const EstimatedBody& body = model.bodies()[e];
+  const int first = position[10 * e];
+  Matrix10 J_pi_theta;
+  body.map.ToPi(x.segment<10>(10 * e), &J_pi_theta);
+  const Matrix10 J_piReport_theta = ReportFrameMap(body) * J_pi_theta;
+  const InertialParams in_report = model.BodyInertia(e, x);
+  const Matrix10 C_theta = C_free.block<10, 10>(first, first);
+  BodyUncertainty& bu = u.bodies[e];
+  u.body_pi_covariance[e] = J_piReport_theta * C_theta * J_piReport_theta.transpose();
+  bu = UncertaintyOf(in_report, u.body_pi_covariance[e]);
+
+  // Rows of d(quantity)/d(pi_report): mass, COM and I_C from J_mci_pi, then I_O entries.
+  Matrix10 J_mci_pi;
+  MassComInertiaAboutCom(in_report, &J_mci_pi);
+  Eigen::Matrix<double, 16, 10> G_pi = Eigen::Matrix<double, 16, 10>::Zero();
+  G_pi.topRows<10>() = J_mci_pi;
+  G_pi.bottomRows<6>().rightCols<6>().setIdentity();
+  const Eigen::Matrix<double, 16, 10> G_theta = G_pi * J_piReport_theta;
+  double* std_of[16] = {&bu.mass};
+  for (int k = 0; k < 3; ++k) std_of[mci_index::kCx + k] = &bu.com[k];
+  for (int k = 0; k < 6; ++k) {
+    std_of[mci_index::kIxx + k] = &bu.inertia_about_com[k];
+    std_of[10 + k] = &bu.inertia[k];
+  }
+  // Held: the prior's share of the posterior variance exceeds the data's. With y = H^+ g,
+  // v_post = y^T H y = y^T H_data y + sum_b y_b^T H_prior,b y_b (over s^2).
+  bool held[10] = {};
+  for (int q = 0; q < 16; ++q) {
+    const Eigen::VectorXd g = G_theta.row(q).transpose();
+    if (TouchesUndetermined(scaled, first, g)) *std_of[q] = kInfinity;
+    if (q >= 10 || prior_weight == 0.0 || std::isinf(*std_of[q])) continue;
+    const Eigen::VectorXd y = H_pinv.middleCols(first, 10) * g;
+    double prior_share = 0.0;
+    for (int b = 0; b < B; ++b) {
+      if (frozen(b)) continue;
+      const Vector10 y_b = y.segment<10>(position[10 * b]);
+      prior_share += y_b.dot(H_prior[b] * y_b);
+    }
+    held[q] = prior_share > y.dot(H_data * y);
+  }
+  BodyHeldByPrior& h = u.body_held[e];
+  h.mass = held[mci_index::kMass];
+  for (int k = 0; k < 3; ++k) h.com[k] = held[mci_index::kCx + k];
+  for (int k = 0; k < 6; ++k) h.inertia_about_com[k] = held[mci_index::kIxx + k];
+}
+
+// Effect k's standard deviations: each physical value's from the std of its parameter.
+std::vector<double> EffectUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& x, int k,
+                                              const FreeParameters& free, const Eigen::MatrixXd& C_free,
+                                              const std::vector<bool>& undetermined_parameter) {
+  const std::vector<int>& position = free.position;
+  const EffectTerm& t = model.effects()[k];
+  const std::vector<double> values = model.EffectValues(k, x);
+  std::vector<double> stds(values.size());
+  for (int i = 0; i < static_cast<int>(values.size()); ++i) {
+    const int p = position[t.first_parameter + i];
+    const double sd = std::sqrt(std::max(0.0, C_free(p, p)));
+    // Exponential coefficients (every one but an offset and a spring's q0): d(e^s)/ds = e^s.
+    const bool exponential = t.kind != EffectKind::kOffset && (i == 0 || t.kind != EffectKind::kSpring);
+    stds[i] = undetermined_parameter[p] ? kInfinity : exponential ? values[i] * sd : sd;
+  }
+  return stds;
+}
+
+}  // namespace
+
+FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
+                                      const Eigen::VectorXd& x, double prior_weight,
+                                      const std::vector<bool>& frozen_bodies) {
+  CheckUncertaintyInputs(model, data, x, prior_weight, frozen_bodies);
+  const int P = model.num_parameters();
+  const int B = static_cast<int>(model.bodies().size());
+  const FreeParameters free = ListFreeParameters(P, B, frozen_bodies);
+  const int n = free.size();
+
+  Eigen::MatrixXd J_w_x;
+  const Eigen::VectorXd w = model.Coefficients(x, &J_w_x);
+  const FitHessian hessian = HessianOfTheFit(model, data, x, prior_weight, free, J_w_x, frozen_bodies);
+  const ScaledHessian scaled = DecomposeScaled(hessian.total);
   // H^+ in the unscaled parameters.
   const Eigen::MatrixXd H_pinv =
       scaled.inv_sqrt_diag.asDiagonal() * scaled.pseudo_inverse * scaled.inv_sqrt_diag.asDiagonal();
 
   FitUncertainty u;
   u.undetermined_directions = static_cast<int>(scaled.undetermined.cols());
-  u.effective_parameters = (H_pinv.cwiseProduct(H_data)).sum();  // trace(H^+ H_data), both symmetric
+  u.effective_parameters = (H_pinv.cwiseProduct(hessian.data)).sum();  // trace(H^+ H_data), both symmetric
   const double rows = static_cast<double>(data.num_samples) * model.num_dofs();
   u.dof = rows - u.effective_parameters;
   if (!(u.dof > 0.0)) {
@@ -146,75 +260,19 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
       if (undetermined_parameter[i] || undetermined_parameter[j]) {
         c = i == j ? kInfinity : std::numeric_limits<double>::quiet_NaN();
       }
-      u.covariance(free_index[i], free_index[j]) = c;
+      u.covariance(free.index[i], free.index[j]) = c;
     }
   }
 
-  // Bodies: every quantity through its gradient with respect to theta_e.
   u.bodies.assign(B, BodyUncertainty());
   u.body_held.assign(B, BodyHeldByPrior());
   u.body_pi_covariance.assign(B, Matrix10::Zero());
   for (int e = 0; e < B; ++e) {
-    if (frozen(e)) continue;
-    const EstimatedBody& body = model.bodies()[e];
-    const int first = position[10 * e];
-    Matrix10 J_pi_theta;
-    body.map.ToPi(x.segment<10>(10 * e), &J_pi_theta);
-    const Matrix10 J_piReport_theta = ReportFrameMap(body) * J_pi_theta;
-    const InertialParams in_report = model.BodyInertia(e, x);
-    const Matrix10 C_theta = C_free.block<10, 10>(first, first);
-    BodyUncertainty& bu = u.bodies[e];
-    u.body_pi_covariance[e] = J_piReport_theta * C_theta * J_piReport_theta.transpose();
-    bu = UncertaintyOf(in_report, u.body_pi_covariance[e]);
-
-    // Rows of d(quantity)/d(pi_report): mass, COM and I_C from J_mci_pi, then I_O entries.
-    Matrix10 J_mci_pi;
-    MassComInertiaAboutCom(in_report, &J_mci_pi);
-    Eigen::Matrix<double, 16, 10> G_pi = Eigen::Matrix<double, 16, 10>::Zero();
-    G_pi.topRows<10>() = J_mci_pi;
-    G_pi.bottomRows<6>().rightCols<6>().setIdentity();
-    const Eigen::Matrix<double, 16, 10> G_theta = G_pi * J_piReport_theta;
-    double* std_of[16] = {&bu.mass};
-    for (int k = 0; k < 3; ++k) std_of[mci_index::kCx + k] = &bu.com[k];
-    for (int k = 0; k < 6; ++k) {
-      std_of[mci_index::kIxx + k] = &bu.inertia_about_com[k];
-      std_of[10 + k] = &bu.inertia[k];
-    }
-    // Held: the prior's share of the posterior variance exceeds the data's. With y = H^+ g,
-    // v_post = y^T H y = y^T H_data y + sum_b y_b^T H_prior,b y_b (over s^2).
-    bool held[10] = {};
-    for (int q = 0; q < 16; ++q) {
-      const Eigen::VectorXd g = G_theta.row(q).transpose();
-      if (TouchesUndetermined(scaled, first, g)) *std_of[q] = kInfinity;
-      if (q >= 10 || prior_weight == 0.0 || std::isinf(*std_of[q])) continue;
-      const Eigen::VectorXd y = H_pinv.middleCols(first, 10) * g;
-      double prior_share = 0.0;
-      for (int b = 0; b < B; ++b) {
-        if (frozen(b)) continue;
-        const Vector10 y_b = y.segment<10>(position[10 * b]);
-        prior_share += y_b.dot(H_prior[b] * y_b);
-      }
-      held[q] = prior_share > y.dot(H_data * y);
-    }
-    BodyHeldByPrior& h = u.body_held[e];
-    h.mass = held[mci_index::kMass];
-    for (int k = 0; k < 3; ++k) h.com[k] = held[mci_index::kCx + k];
-    for (int k = 0; k < 6; ++k) h.inertia_about_com[k] = held[mci_index::kIxx + k];
+    if (!frozen_bodies.empty() && frozen_bodies[e]) continue;
+    BodyUncertaintyOfTheFit(model, x, e, free, hessian, scaled, H_pinv, C_free, prior_weight, frozen_bodies, u);
   }
-
-  // Effects: std of each physical value from the std of its parameter.
   for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-    const EffectTerm& t = model.effects()[k];
-    const std::vector<double> values = model.EffectValues(k, x);
-    std::vector<double> stds(values.size());
-    for (int i = 0; i < static_cast<int>(values.size()); ++i) {
-      const int p = position[t.first_parameter + i];
-      const double sd = std::sqrt(std::max(0.0, C_free(p, p)));
-      // Exponential coefficients (every one but an offset and a spring's q0): d(e^s)/ds = e^s.
-      const bool exponential = t.kind != EffectKind::kOffset && (i == 0 || t.kind != EffectKind::kSpring);
-      stds[i] = undetermined_parameter[p] ? kInfinity : exponential ? values[i] * sd : sd;
-    }
-    u.effects.push_back(std::move(stds));
+    u.effects.push_back(EffectUncertaintyOfTheFit(model, x, k, free, C_free, undetermined_parameter));
   }
   return u;
 }
