@@ -297,10 +297,12 @@ std::string CandidateExplanation(const JointDiagnosisContext& c, const Candidate
   }
 }
 
-std::string JointDiagnosisText(const JointDiagnosisContext& c) {
+namespace {
+
+// The fit, the held-out errors, the links' plausibility and where the model fails.
+void FitSection(std::ostringstream& out, const JointDiagnosisContext& c) {
   const RobotDynamics& model = *c.model;
   const JointDiagnosis& d = *c.diagnosis;
-  std::ostringstream out;
   out << "Diagnosis: links";
   for (const EffectSpec& e : d.effects) out << " + " << e.text;
   out << " (" << model.num_parameters() << " parameters), fitted on " << d.train_samples << " samples, judged on "
@@ -319,6 +321,12 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
   }
   out << "\n" << PlausibilityText(model, d);
   out << "\n" << WhereItFailsText(model.dof_names(), c.residuals, "held-out residual of the fitted model");
+}
+
+// The missing effects: the suggestions with their evidence, then the next best not suggested.
+void MissingEffectsSection(std::ostringstream& out, const JointDiagnosisContext& c) {
+  const RobotDynamics& model = *c.model;
+  const JointDiagnosis& d = *c.diagnosis;
   out << "\nMissing effects. Suggested when the held-out data support them (removing " << Percent(c.min_explained)
       << " of the held-out mean-square error, or a significant fall of it counted in independent samples) or when they "
          "restore the plausibility of links the model bends; ranked by the held-out share they remove (score, %), "
@@ -366,6 +374,12 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
           << CandidateNotSuggested(d, d.candidates[i], c.min_explained, c.min_gain) << "\n";
     }
   }
+}
+
+// The notes, what to do next, and whether every body is consistent.
+void ClosingSection(std::ostringstream& out, const JointDiagnosisContext& c) {
+  const RobotDynamics& model = *c.model;
+  const JointDiagnosis& d = *c.diagnosis;
   for (const std::string& note : d.notes) out << "  note: " << note << "\n";
   if (d.num_suggestions > 0) {
     out << "\nNext: add the top suggestion (--effects ";
@@ -382,6 +396,15 @@ std::string JointDiagnosisText(const JointDiagnosisContext& c) {
       << (consistent ? "Every identified body is physically consistent."
                      : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
       << "\n";
+}
+
+}  // namespace
+
+std::string JointDiagnosisText(const JointDiagnosisContext& c) {
+  std::ostringstream out;
+  FitSection(out, c);
+  MissingEffectsSection(out, c);
+  ClosingSection(out, c);
   return out.str();
 }
 
