@@ -16,6 +16,7 @@
 namespace inertial {
 namespace {
 
+using testing::ExciteLeg;
 using testing::Rng;
 
 // J_mci_pi against central differences of mci(pi), at random fully consistent bodies, thin ones
@@ -88,35 +89,6 @@ RobotDynamics LegModel(const std::string& effects) {
   return RobotDynamics(Leg(), kJoints, ParseEffectList(effects), testing::NoLinks());
 }
 
-// Samples along a sum of sinusoids (exact derivatives), torques from the model at x_true plus
-// Gaussian noise.
-JointSamples Excite(const RobotDynamics& model, const Eigen::VectorXd& x_true, int N, double noise, Rng& rng) {
-  JointSamples s;
-  s.joint_names = kJoints;
-  s.t.resize(N);
-  s.q.resize(N, 3);
-  s.qd.resize(N, 3);
-  s.qdd.resize(N, 3);
-  s.tau.resize(N, 3);
-  for (int k = 0; k < N; ++k) {
-    const double t = 0.005 * k;
-    s.t[k] = t;
-    for (int j = 0; j < 3; ++j) {
-      s.q(k, j) = s.qd(k, j) = s.qdd(k, j) = 0.0;
-      for (int h = 1; h <= 3; ++h) {
-        const double w = 2 * M_PI * 0.3 * h * (1 + 0.37 * j), a = 0.5 / h, p = j + h;
-        s.q(k, j) += a * std::sin(w * t + p);
-        s.qd(k, j) += a * w * std::cos(w * t + p);
-        s.qdd(k, j) -= a * w * w * std::sin(w * t + p);
-      }
-    }
-    s.tau.row(k) = model.InverseDynamics(x_true, s.q.row(k).transpose(), s.qd.row(k).transpose(),
-                                         s.qdd.row(k).transpose()).transpose();
-    for (int j = 0; j < 3; ++j) s.tau(k, j) += noise * rng.Normal();
-  }
-  return s;
-}
-
 // Closed form: with every body frozen the model is linear in the effect coefficients c (w = [pi of
 // the priors; c]), the fit is linear least squares c = (A_e^T A_e)^-1 A_e^T (tau - A_b pi), and
 //   s^2 = ||A w - tau||^2 / (N_rows - P_e),  cov(c) = s^2 (A_e^T A_e)^-1,
@@ -130,7 +102,7 @@ TEST(FitUncertainty, EffectsOnlyMatchLinearLeastSquares) {
   for (const EffectTerm& t : model.effects()) {
     c_true[t.first_feature - Fi] = t.kind == EffectKind::kViscous ? 0.3 : t.kind == EffectKind::kCoulomb ? 0.8 : -0.4;
   }
-  const JointSamples samples = Excite(model, model.ParametersFromEffectCoefficients(c_true), 600, 0.1, rng);
+  const JointSamples samples = ExciteLeg(model, model.ParametersFromEffectCoefficients(c_true), 600, 0.005, 0.1, rng);
   const JointNormalEquations eq = AccumulateNormalEquations(model, samples);
   const Eigen::VectorXd w_prior = model.Coefficients(Eigen::VectorXd::Zero(model.num_parameters()));
   const Eigen::MatrixXd AtA_e = eq.AtA.bottomRightCorner(Fe, Fe);
@@ -183,7 +155,7 @@ TEST(FitUncertainty, EffectsOnlyMatchLinearLeastSquares) {
 TEST(FitUncertainty, NothingEstimatedGivesZeroStandardDeviations) {
   Rng rng(54);
   const RobotDynamics model = LegModel("");
-  const JointSamples samples = Excite(model, Eigen::VectorXd::Zero(model.num_parameters()), 100, 0.1, rng);
+  const JointSamples samples = ExciteLeg(model, Eigen::VectorXd::Zero(model.num_parameters()), 100, 0.005, 0.1, rng);
   const JointNormalEquations eq = AccumulateNormalEquations(model, samples);
   const FitUncertainty u =
       EstimateFitUncertainty(model, eq, Eigen::VectorXd::Zero(model.num_parameters()), 1e-2, {true, true, true});
@@ -203,7 +175,7 @@ TEST(FitUncertainty, MassOfTheFirstLinkIsHeldByThePriorOrUndetermined) {
   Eigen::VectorXd x_true = Eigen::VectorXd::Zero(model.num_parameters());
   for (int i = 0; i < 30; ++i) x_true[i] = rng.Uniform(-0.2, 0.2);
   for (const EffectTerm& t : model.effects()) x_true[t.first_parameter] = std::log(0.3);
-  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x_true, 1500, 0.2, rng));
+  const JointNormalEquations eq = AccumulateNormalEquations(model, ExciteLeg(model, x_true, 1500, 0.005, 0.2, rng));
   JointIdentificationOptions options;
   options.initial = x_true;
   const Eigen::VectorXd x = IdentifyJointModel(model, eq, options).x;
@@ -255,7 +227,7 @@ TEST(FitUncertainty, ReportFrameMapGivesTheBodyInItsReportFrame) {
   EXPECT_NEAR(prior_in_link[pi_index::kMass], 0.8, 1e-14);
   EXPECT_LT(prior_in_link.segment<3>(pi_index::kHx).norm(), 1e-14);
 
-  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x, 600, 0.1, rng));
+  const JointNormalEquations eq = AccumulateNormalEquations(model, ExciteLeg(model, x, 600, 0.005, 0.1, rng));
   const FitUncertainty u = EstimateFitUncertainty(model, eq, x, 1e-2);
   Matrix10 J_pi_theta;
   payload.map.ToPi(x.segment<10>(30), &J_pi_theta);
@@ -274,7 +246,7 @@ TEST(FitUncertainty, RejectsInputsThatDoNotMatchTheModel) {
   Rng rng(55);
   const RobotDynamics model = LegModel("viscous");
   const Eigen::VectorXd x = Eigen::VectorXd::Zero(model.num_parameters());
-  const JointNormalEquations eq = AccumulateNormalEquations(model, Excite(model, x, 50, 0.1, rng));
+  const JointNormalEquations eq = AccumulateNormalEquations(model, ExciteLeg(model, x, 50, 0.005, 0.1, rng));
   EXPECT_THROW(EstimateFitUncertainty(model, eq, x.head(5), 0.01), std::invalid_argument);
   EXPECT_THROW(EstimateFitUncertainty(model, eq, x, -1.0), std::invalid_argument);
   EXPECT_THROW(EstimateFitUncertainty(model, eq, x, 0.01, {true}), std::invalid_argument);

@@ -3,11 +3,14 @@
 /// no URDF reader): ab/ad about x, hip and knee about y, with prior and true link inertias.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/model/joint_samples.hpp"
 #include "inertial/model/robot_dynamics.hpp"
+#include "test_support.hpp"
 
 namespace inertial::testing {
 
@@ -45,6 +48,37 @@ inline std::vector<InertialParams> LegTrueLinks() {
 /// A link resolver that knows no link (no payloads on the chain).
 inline LinkResolver NoLinks() {
   return [](const std::string&, LinkLocation*) { return false; };
+}
+
+/// The tests' excitation of the leg: N samples every dt seconds along a sum of three sinusoids per
+/// joint (exact derivatives; `phase` shifts them, for a held-out trajectory), torques from
+/// `truth` at x_true plus Gaussian noise of std `noise` [N m].
+inline JointSamples ExciteLeg(const RobotDynamics& truth, const Eigen::VectorXd& x_true, int N, double dt, double noise,
+                              Rng& rng, double phase = 0.0) {
+  JointSamples s;
+  s.joint_names = kLegJoints;
+  s.t.resize(N);
+  s.q.resize(N, 3);
+  s.qd.resize(N, 3);
+  s.qdd.resize(N, 3);
+  s.tau.resize(N, 3);
+  for (int k = 0; k < N; ++k) {
+    const double t = k * dt;
+    s.t[k] = t;
+    for (int j = 0; j < 3; ++j) {
+      s.q(k, j) = s.qd(k, j) = s.qdd(k, j) = 0.0;
+      for (int h = 1; h <= 3; ++h) {
+        const double w = 2 * M_PI * 0.3 * h * (1 + 0.37 * j), a = 0.5 / h, p = phase + j + h;
+        s.q(k, j) += a * std::sin(w * t + p);
+        s.qd(k, j) += a * w * std::cos(w * t + p);
+        s.qdd(k, j) -= a * w * w * std::sin(w * t + p);
+      }
+    }
+    s.tau.row(k) = truth.InverseDynamics(x_true, s.q.row(k).transpose(), s.qd.row(k).transpose(),
+                                         s.qdd.row(k).transpose()).transpose();
+    for (int j = 0; j < 3; ++j) s.tau(k, j) += noise * rng.Normal();
+  }
+  return s;
 }
 
 }  // namespace inertial::testing

@@ -19,36 +19,8 @@ const std::vector<std::string>& kJoints = testing::kLegJoints;
 KinematicTree Leg(const std::vector<InertialParams>& links) { return testing::LegChain(links); }
 std::vector<InertialParams> PriorLinks() { return testing::LegPriorLinks(); }
 std::vector<InertialParams> TrueLinks() { return testing::LegTrueLinks(); }
+using testing::ExciteLeg;
 using testing::NoLinks;
-
-// Samples along a sum of sinusoids (exact derivatives), torques from `truth` plus Gaussian noise.
-JointSamples Excite(const RobotDynamics& truth, const Eigen::VectorXd& x_true, int N, double dt, double noise,
-                    Rng& rng, double phase) {
-  JointSamples s;
-  s.joint_names = kJoints;
-  s.t.resize(N);
-  s.q.resize(N, 3);
-  s.qd.resize(N, 3);
-  s.qdd.resize(N, 3);
-  s.tau.resize(N, 3);
-  for (int k = 0; k < N; ++k) {
-    const double t = k * dt;
-    s.t[k] = t;
-    for (int j = 0; j < 3; ++j) {
-      s.q(k, j) = s.qd(k, j) = s.qdd(k, j) = 0.0;
-      for (int h = 1; h <= 3; ++h) {
-        const double w = 2 * M_PI * 0.3 * h * (1 + 0.37 * j), a = 0.5 / h, p = phase + j + h;
-        s.q(k, j) += a * std::sin(w * t + p);
-        s.qd(k, j) += a * w * std::cos(w * t + p);
-        s.qdd(k, j) -= a * w * w * std::sin(w * t + p);
-      }
-    }
-    s.tau.row(k) = truth.InverseDynamics(x_true, s.q.row(k).transpose(), s.qd.row(k).transpose(),
-                                         s.qdd.row(k).transpose()).transpose();
-    for (int j = 0; j < 3; ++j) s.tau(k, j) += noise * rng.Normal();
-  }
-  return s;
-}
 
 struct Case {
   RobotDynamics model, truth;
@@ -73,8 +45,8 @@ Case MakeCase(const std::string& effects) {
 TEST(JointIdentification, RecoversIdentifiableDynamicsWithoutNoise) {
   Rng rng(31);
   const Case c = MakeCase("viscous,coulomb:scale=0.05");
-  const JointSamples train = Excite(c.truth, c.x_true, 4000, 0.005, 0.0, rng, 0.0);
-  const JointSamples test = Excite(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 1.7);
+  const JointSamples train = ExciteLeg(c.truth, c.x_true, 4000, 0.005, 0.0, rng, 0.0);
+  const JointSamples test = ExciteLeg(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 1.7);
   JointIdentificationOptions options;
   options.prior_weight = 1e-8;
   const JointIdentificationResult r = IdentifyJointModel(c.model, AccumulateNormalEquations(c.model, train), options);
@@ -95,8 +67,8 @@ TEST(JointIdentification, ReachesTheNoiseFloorWithConsistentBodies) {
   Rng rng(32);
   const Case c = MakeCase("viscous");
   const double sigma = 0.2;
-  const JointSamples train = Excite(c.truth, c.x_true, 1000, 0.005, sigma, rng, 0.0);
-  const JointSamples test = Excite(c.truth, c.x_true, 2000, 0.005, sigma, rng, 1.7);
+  const JointSamples train = ExciteLeg(c.truth, c.x_true, 1000, 0.005, sigma, rng, 0.0);
+  const JointSamples test = ExciteLeg(c.truth, c.x_true, 2000, 0.005, sigma, rng, 1.7);
   const JointNormalEquations eq = AccumulateNormalEquations(c.model, train);
   const JointIdentificationResult r = IdentifyJointModel(c.model, eq);
   EXPECT_TRUE(r.lm.converged()) << ToString(r.lm.reason);
@@ -129,7 +101,7 @@ TEST(JointIdentification, RejectsSamplesThatDoNotMatchTheModel) {
 TEST(JointIdentification, JointwiseStatisticsGiveEachJointsError) {
   Rng rng(33);
   const Case c = MakeCase("viscous,coulomb:scale=0.05");
-  const JointSamples data = Excite(c.truth, c.x_true, 700, 0.005, 0.1, rng, 0.4);
+  const JointSamples data = ExciteLeg(c.truth, c.x_true, 700, 0.005, 0.1, rng, 0.4);
   const std::vector<JointNormalEquations> per = AccumulateJointwiseNormalEquations(c.model, data);
   const JointNormalEquations total = AccumulateNormalEquations(c.model, data);
   ASSERT_EQ(per.size(), 3u);
@@ -152,7 +124,7 @@ TEST(JointIdentification, JointwiseStatisticsGiveEachJointsError) {
 TEST(JointIdentification, FrozenBodiesStayAtTheirPriors) {
   Rng rng(34);
   const Case c = MakeCase("viscous,coulomb:scale=0.05");
-  const JointSamples train = Excite(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 0.0);
+  const JointSamples train = ExciteLeg(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 0.0);
   const RobotDynamics at_truth(Leg(TrueLinks()), kJoints, ParseEffectList("viscous,coulomb:scale=0.05"), NoLinks());
   JointIdentificationOptions options;
   options.frozen_bodies = {true, true, true};
@@ -181,7 +153,7 @@ TEST(JointIdentification, PriorWithoutEffectsIsTheLinksAlone) {
   Rng rng(35);
   const Case c = MakeCase("viscous,coulomb:scale=0.05,offset,spring");
   const RobotDynamics links(Leg(PriorLinks()), kJoints, {}, NoLinks());
-  const JointSamples data = Excite(c.truth, c.x_true, 50, 0.01, 0.0, rng, 0.0);
+  const JointSamples data = ExciteLeg(c.truth, c.x_true, 50, 0.01, 0.0, rng, 0.0);
   const Eigen::MatrixXd with = PredictJointTorques(c.model, PriorParametersWithoutEffects(c.model), data);
   const Eigen::MatrixXd alone = PredictJointTorques(links, Eigen::VectorXd::Zero(links.num_parameters()), data);
   EXPECT_LT((with - alone).cwiseAbs().maxCoeff(), 1e-12 * alone.cwiseAbs().maxCoeff());

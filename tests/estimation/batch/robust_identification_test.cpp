@@ -14,6 +14,7 @@
 namespace inertial {
 namespace {
 
+using testing::ExciteLeg;
 using testing::Rng;
 
 const std::vector<std::string>& kJoints = testing::kLegJoints;
@@ -39,34 +40,6 @@ Case MakeCase() {
   }
   c.x_true = c.truth.ParametersFromEffectCoefficients(coeffs);
   return c;
-}
-
-// Samples along a sum of sinusoids (exact derivatives), torques of the truth plus Gaussian noise.
-JointSamples Excite(const Case& c, int N, double dt, double noise, Rng& rng, double phase) {
-  JointSamples s;
-  s.joint_names = kJoints;
-  s.t.resize(N);
-  s.q.resize(N, 3);
-  s.qd.resize(N, 3);
-  s.qdd.resize(N, 3);
-  s.tau.resize(N, 3);
-  for (int k = 0; k < N; ++k) {
-    const double t = k * dt;
-    s.t[k] = t;
-    for (int j = 0; j < 3; ++j) {
-      s.q(k, j) = s.qd(k, j) = s.qdd(k, j) = 0.0;
-      for (int h = 1; h <= 3; ++h) {
-        const double w = 2 * M_PI * 0.3 * h * (1 + 0.37 * j), a = 0.5 / h, p = phase + j + h;
-        s.q(k, j) += a * std::sin(w * t + p);
-        s.qd(k, j) += a * w * std::cos(w * t + p);
-        s.qdd(k, j) -= a * w * w * std::sin(w * t + p);
-      }
-    }
-    s.tau.row(k) = c.truth.InverseDynamics(c.x_true, s.q.row(k).transpose(), s.qd.row(k).transpose(),
-                                           s.qdd.row(k).transpose()).transpose();
-    for (int j = 0; j < 3; ++j) s.tau(k, j) += noise * rng.Normal();
-  }
-  return s;
 }
 
 std::vector<int> AllBut(int N, const std::vector<int>& rejected) {
@@ -111,7 +84,7 @@ TEST(OutlierRejection, HeavyTailThresholdLeavesAHundredthOfALaplaceResidual) {
 TEST(OutlierRejection, SelectSamplesCopiesRowsInOrder) {
   Rng rng(1);
   const Case c = MakeCase();
-  const JointSamples s = Excite(c, 10, 0.01, 0.1, rng, 0.0);
+  const JointSamples s = ExciteLeg(c.truth, c.x_true, 10, 0.01, 0.1, rng, 0.0);
   const JointSamples sub = SelectSamples(s, {1, 4, 9});
   ASSERT_EQ(sub.size(), 3);
   EXPECT_EQ(sub.joint_names, kJoints);
@@ -140,7 +113,7 @@ TEST(OutlierRejection, CleanDataLosesNoRow) {
   const Case c = MakeCase();
   for (const double noise : {0.0, 0.2}) {
     Rng rng(2);
-    const JointSamples train = Excite(c, 4000, 0.005, noise, rng, 0.0);
+    const JointSamples train = ExciteLeg(c.truth, c.x_true, 4000, 0.005, noise, rng, 0.0);
     const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, train, JointIdentificationOptions());
     EXPECT_TRUE(r.outliers.rejected.empty()) << "noise " << noise << ": " << r.outliers.rejected.size() << " rejected, first: "
                                              << (r.outliers.reasons.empty() ? "" : r.outliers.reasons[0]);
@@ -168,8 +141,8 @@ TEST(OutlierRejection, CleanDataLosesNoRow) {
 TEST(OutlierRejection, OneGlitchedTorqueIsRejectedAndTheFitIsThatOfTheOtherRows) {
   Rng rng(3);
   const Case c = MakeCase();
-  JointSamples train = Excite(c, 4000, 0.005, 0.2, rng, 0.0);
-  const JointSamples test = Excite(c, 2000, 0.005, 0.0, rng, 1.7);
+  JointSamples train = ExciteLeg(c.truth, c.x_true, 4000, 0.005, 0.2, rng, 0.0);
+  const JointSamples test = ExciteLeg(c.truth, c.x_true, 2000, 0.005, 0.0, rng, 1.7);
   const JointIdentificationResult clean = IdentifyJointModel(c.model, AccumulateNormalEquations(c.model, train));
   train.tau(1234, 1) = 1e6;
   const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, train, JointIdentificationOptions());
@@ -192,7 +165,7 @@ TEST(OutlierRejection, OneGlitchedTorqueIsRejectedAndTheFitIsThatOfTheOtherRows)
 TEST(OutlierRejection, DisabledIsThePlainFitBitForBit) {
   Rng rng(4);
   const Case c = MakeCase();
-  JointSamples train = Excite(c, 2000, 0.005, 0.2, rng, 0.0);
+  JointSamples train = ExciteLeg(c.truth, c.x_true, 2000, 0.005, 0.2, rng, 0.0);
   train.tau(700, 2) = 500.0;
   JointIdentificationOptions options;
   options.prior_weight = 0.05;
@@ -214,7 +187,7 @@ TEST(OutlierRejection, DisabledIsThePlainFitBitForBit) {
 TEST(OutlierRejection, NonFiniteAndOverflowingRowsAreRejectedOutright) {
   Rng rng(5);
   const Case c = MakeCase();
-  JointSamples train = Excite(c, 3000, 0.005, 0.2, rng, 0.0);
+  JointSamples train = ExciteLeg(c.truth, c.x_true, 3000, 0.005, 0.2, rng, 0.0);
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   train.qdd(10, 2) = nan;
   train.tau(20, 0) = -inf;
@@ -240,7 +213,7 @@ TEST(OutlierRejection, NonFiniteAndOverflowingRowsAreRejectedOutright) {
 TEST(OutlierRejection, RowsRejectedByThePriorComeBack) {
   Rng rng(9);
   const Case c = MakeCase();
-  JointSamples train = Excite(c, 4000, 0.005, 0.2, rng, 0.0);
+  JointSamples train = ExciteLeg(c.truth, c.x_true, 4000, 0.005, 0.2, rng, 0.0);
   for (int i = 1000; i < 1200; ++i) {
     train.qd.row(i) *= 6.0;
     train.tau.row(i) = c.truth.InverseDynamics(c.x_true, train.q.row(i).transpose(), train.qd.row(i).transpose(),
@@ -274,7 +247,7 @@ TEST(OutlierRejection, RowsRejectedByThePriorComeBack) {
 TEST(OutlierRejection, BadOptionsAndUnusableDataAreRefused) {
   Rng rng(6);
   const Case c = MakeCase();
-  JointSamples train = Excite(c, 50, 0.01, 0.1, rng, 0.0);
+  JointSamples train = ExciteLeg(c.truth, c.x_true, 50, 0.01, 0.1, rng, 0.0);
   OutlierOptions zero_rounds;
   zero_rounds.max_rounds = 0;
   EXPECT_THROW(IdentifyJointModelRobust(c.model, train, {}, zero_rounds), std::invalid_argument);
@@ -297,7 +270,7 @@ TEST(OutlierRejection, BadOptionsAndUnusableDataAreRefused) {
 TEST(OutlierRejection, GivenThresholdIsUsed) {
   Rng rng(7);
   const Case c = MakeCase();
-  const JointSamples train = Excite(c, 4000, 0.005, 0.2, rng, 0.0);
+  const JointSamples train = ExciteLeg(c.truth, c.x_true, 4000, 0.005, 0.2, rng, 0.0);
   OutlierOptions low;
   low.threshold = 2.5;  // P(|Z| > 2.5) = 1.24 %: about 147 of 4000 rows (3 joints); seen 142
   const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, train, {}, low);
@@ -310,7 +283,7 @@ TEST(OutlierRejection, GivenThresholdIsUsed) {
 TEST(OutlierRejection, DescribeExtremeValuesNamesGlitchesAndNothingElse) {
   Rng rng(8);
   const Case c = MakeCase();
-  JointSamples s = Excite(c, 1000, 0.005, 0.2, rng, 0.0);
+  JointSamples s = ExciteLeg(c.truth, c.x_true, 1000, 0.005, 0.2, rng, 0.0);
   EXPECT_TRUE(DescribeExtremeValues(s).empty());
   s.tau(400, 2) = 1e4;   // at most 1e5 robust scales (the noise alone makes the scale 0.2): an outlier, not absurd
   EXPECT_TRUE(DescribeExtremeValues(s).empty());
