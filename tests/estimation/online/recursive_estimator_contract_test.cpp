@@ -78,6 +78,16 @@ double RobotHeldOutRms(const Eigen::VectorXd& w) {
   return std::sqrt(s / (log.size() * log.tau.cols()));
 }
 
+// The refusals of time order every estimator shares: the last time repeated, a time before it.
+template <typename Sample>
+void AppendTimeOrderRefusals(const Sample& next, const Sample& last, std::vector<Refusal<Sample>>& out) {
+  Sample s = next;
+  s.t = last.t;
+  out.push_back({s, UpdateStatus::kOutOfOrder, "the last time repeated"});
+  s.t = last.t - 0.5;
+  out.push_back({s, UpdateStatus::kOutOfOrder, "a time before the last"});
+}
+
 template <EstimatorKind K>
 struct RobotTraits {
   using Estimator = OnlineJointEstimator;
@@ -142,11 +152,7 @@ struct RobotTraits {
       s.t = t;
       out.push_back({s, UpdateStatus::kNonFinite, "t = " + std::to_string(t)});
     }
-    Sample s = next;
-    s.t = last.t;
-    out.push_back({s, UpdateStatus::kOutOfOrder, "the last time repeated"});
-    s.t = last.t - 0.5;
-    out.push_back({s, UpdateStatus::kOutOfOrder, "a time before the last"});
+    AppendTimeOrderRefusals(next, last, out);
     return out;
   }
   static double HeldOutRms(const Estimator& e) { return RobotHeldOutRms(e.coefficients()); }
@@ -242,11 +248,7 @@ struct BodyTraits {
         out.push_back({s, UpdateStatus::kNonFinite, "acceleration = " + std::to_string(bad)});
       }
     }
-    Sample s = next;
-    s.t = last.t;
-    out.push_back({s, UpdateStatus::kOutOfOrder, "the last time repeated"});
-    s.t = last.t - 0.5;
-    out.push_back({s, UpdateStatus::kOutOfOrder, "a time before the last"});
+    AppendTimeOrderRefusals(next, last, out);
     return out;
   }
   static double HeldOutRms(const Estimator& e) { return BodyHeldOutRms(e.Body()); }
