@@ -163,9 +163,10 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
     if (i % 200 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   WaitFor(daemon, static_cast<std::uint64_t>(sent));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // at least one more publication
   stop = true;
   runner.join();
+  while (daemon.lcm().handleTimeout(10) > 0) {
+  }  // the exit publication (after the final solve), sent once the receiver thread had stopped
 
   const DaemonCounters c = daemon.counters();
   EXPECT_EQ(c.samples.received, static_cast<std::uint64_t>(sent));
@@ -191,26 +192,43 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   EXPECT_EQ(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples());
   EXPECT_LT(TorqueDifference(model, daemon.robot_estimator()->coefficients(), direct.coefficients(), s.samples), 1e-3);  // identify's stopping rule: ~sqrt(1e-7)
 
-  // The last published estimate: consistent bodies, the counters, residuals near the noise.
+  // The exit publication: the final estimate, consistent bodies, the counters.
   std::lock_guard<std::mutex> lock(captured.mutex);
   ASSERT_FALSE(captured.estimates.empty());
   const inertial::estimate_t& e = captured.estimates.back();
   EXPECT_EQ(e.estimator, "gauss_newton");
   ASSERT_EQ(e.num_bodies, 3);
-  for (const auto& b : e.bodies) {
+  ASSERT_EQ(model.num_features(), 30);  // the leg without effects: the features are the bodies' pi
+  Eigen::VectorXd published(30);
+  for (int k = 0; k < 3; ++k) {
+    const auto& b = e.bodies[static_cast<size_t>(k)];
     EXPECT_TRUE(b.physically_consistent) << b.name;
     EXPECT_GT(b.mass_std, 0.0) << b.name;
+    for (int p = 0; p < 10; ++p) published(10 * k + p) = b.pi[p];
   }
   EXPECT_EQ(e.accepted, static_cast<std::int64_t>(s.samples.size()));
   EXPECT_EQ(e.rejected, static_cast<std::int64_t>(c.samples.total_rejected()));
-  // Published before the final solve, from whichever solve the solver thread had adopted by then
-  // (under the sanitizers, seconds staler): a plausible mass, not the final one.
-  EXPECT_GT(e.bodies[2].pi[0], 0.5 * direct.Body(2).mass());
-  EXPECT_LT(e.bodies[2].pi[0], 2.0 * direct.Body(2).mass());
+  // The published bodies are the daemon's final ones, and they explain the torques to the noise
+  // (0.3 N m per joint): the residual of the published numbers, joint by joint.
+  EXPECT_TRUE(published.isApprox(daemon.robot_estimator()->coefficients(), 1e-12));
+  Eigen::MatrixXd A(model.num_dofs(), model.num_features());
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(model.num_dofs());
+  for (const JointSample& j : s.samples) {
+    model.Features(j.q, j.qd, j.qdd, A);
+    sum += (j.tau - A * published).array().square();
+  }
+  const Eigen::ArrayXd rms = (sum / static_cast<double>(s.samples.size())).sqrt();
+  for (int d = 0; d < model.num_dofs(); ++d) {
+    EXPECT_GT(rms(d), 0.25) << d;  // no fit of 2,000 samples explains the noise away
+    EXPECT_LT(rms(d), 0.35) << d;
+  }
+  // The published running residuals are a-priori ones, of the estimates the solver thread had
+  // adopted while the last window arrived (under the sanitizers, much older ones): finite and not
+  // below the noise, but not bounded above by the final fit.
   ASSERT_EQ(e.num_channels, 3);
   for (double r : e.residual_rms) {
+    EXPECT_TRUE(std::isfinite(r));
     EXPECT_GT(r, 0.2);
-    EXPECT_LT(r, 0.6);  // noise 0.3 N m, the estimate still converging
   }
 }
 
