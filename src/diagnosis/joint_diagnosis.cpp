@@ -766,6 +766,7 @@ JointDiagnosis Diagnose(const RobotModelFactory& make, const std::vector<EffectS
   fitter.Run(jobs, options.threads);
   for (size_t c = 0; c < list.specs.size(); ++c) out.candidates.push_back(CandidateResultOf(list, c, jobs[c], out, options));
   RankJointCandidates(fitter, effects, base.dof_names(), list, jobs, &out);
+  out.held_out = CompareJointModel(base, out.fit.x, validation);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -1,6 +1,7 @@
 #include "inertial/formats/joint_csv.hpp"
 
 #include "inertial/signal/log_differentiation.hpp"
+#include "inertial/signal/sample_selection.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -203,15 +204,14 @@ class Parser {
       report_.notices.push_back(source_ + ": ignored " + std::to_string(extra.size()) + " extra column" +
                                 (extra.size() > 1 ? "s: " : ": ") + Join(extra));
     }
-    const SavitzkyGolayOptions& sg = options_.differentiation;
-    const std::string method = " by Savitzky-Golay (order " + std::to_string(sg.order) + ", window " + FormatNumberExact(sg.window) + " s)";
+    // What is missing is the derivation stage's (log_differentiation.hpp), which says how it derives.
     if (derive_qd_) {
-      report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) + "; all velocities are derived from q" + method +
-                                (ignored_qd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qd)));
+      report_.notices.push_back(source_ + ": no velocity column " + Join(missing_qd) +
+                                (ignored_qd.empty() ? "" : " (so " + Join(ignored_qd) + " is ignored too: all velocities come from q)"));
     }
     if (derive_qdd_) {
-      report_.notices.push_back(source_ + ": no acceleration column " + Join(missing_qdd) + "; all accelerations are derived from q" +
-                                method + (ignored_qdd.empty() ? "" : " for consistency, ignoring " + Join(ignored_qdd)));
+      report_.notices.push_back(source_ + ": no acceleration column " + Join(missing_qdd) +
+                                (ignored_qdd.empty() ? "" : " (so " + Join(ignored_qdd) + " is ignored too: all accelerations come from q)"));
     }
   }
 
@@ -453,10 +453,17 @@ JointSamples ParseJointLog(std::istream& in, const std::string& source_name, con
   JointCsvReport local;
   JointCsvReport& r = report ? *report : local;
   JointSamples log = ParseJointCsv(in, source_name, joint_names, options, &r);
+  LogDerivation derivation;
   try {
-    DeriveFromPositions(&log, r.missing_qd, r.missing_qdd, options.differentiation);
+    derivation = DeriveFromPositions(&log, r.missing_qd, r.missing_qdd, options.differentiation);
   } catch (const std::invalid_argument& e) {
     throw CsvError(source_name + ": " + e.what());
+  }
+  for (const std::string& n : derivation.notices) r.notices.push_back(source_name + ": " + n);
+  if (!derivation.left_out.empty()) {  // the file lines of the samples kept
+    std::vector<int> lines;
+    for (int i : RowsExcept(static_cast<int>(r.lines.size()), derivation.left_out)) lines.push_back(r.lines[static_cast<size_t>(i)]);
+    r.lines = std::move(lines);
   }
   return log;
 }

@@ -240,16 +240,12 @@ nlohmann::json WhereItFailsJson(const std::vector<std::string>& dof_names, const
 }
 
 JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
-                                                const JointSamples& validation, const std::string& validation_source,
-                                                double min_explained) {
+                                                const std::string& validation_source, double min_explained) {
   JointDiagnosisContext c;
   c.model = &model;
   c.diagnosis = &diagnosis;
-  c.validation = &validation;
   c.validation_source = validation_source;
   c.min_explained = min_explained;
-  c.predicted = PredictJointTorques(model, diagnosis.fit.x, validation);
-  c.residuals = AnalyzeResiduals(validation, c.predicted, 1.0, 3);
   return c;
 }
 
@@ -264,7 +260,7 @@ std::string CandidateExplanation(const JointDiagnosisContext& c, const Candidate
            "'s rigid body) explains the error (or the URDF inertia of that body is wrong)";
   }
   const int k = DofIndex(*c.model, r.joint);
-  const JointResidualSignature* s = k >= 0 ? &c.residuals.joints[k] : nullptr;
+  const JointResidualSignature* s = k >= 0 ? &c.diagnosis->held_out.residuals.joints[k] : nullptr;
   auto coefficient = [&](ResidualSignal signal) { return s != nullptr ? std::abs(s->alone[signal]) : 0.0; };
   const std::string j = r.joint;
   switch (r.spec.kind) {
@@ -320,7 +316,7 @@ void FitSection(std::ostringstream& out, const JointDiagnosisContext& c) {
     ErrorTable(out, model.dof_names(), *d.links_only_validation, d.fit_validation, "N m");
   }
   out << "\n" << PlausibilityText(model, d);
-  out << "\n" << WhereItFailsText(model.dof_names(), c.residuals, "held-out residual of the fitted model");
+  out << "\n" << WhereItFailsText(model.dof_names(), d.held_out.residuals, "held-out residual of the fitted model");
 }
 
 // The missing effects: the suggestions with their evidence, then the next best not suggested.
@@ -470,7 +466,7 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
   if (!d.stop_reason.empty()) j["stop_reason"] = d.stop_reason;
   j["notes"] = d.notes;
   j["seconds"] = d.seconds;
-  j["where_it_fails"] = WhereItFailsJson(model.dof_names(), c.residuals);
+  j["where_it_fails"] = WhereItFailsJson(model.dof_names(), d.held_out.residuals);
   return j;
 }
 
@@ -525,10 +521,11 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
   p.channels = model.dof_names();
   p.unit = "N m";
   p.velocity_label = "joint velocity [rad/s]";
-  p.t = c.validation->t;
-  p.measured = c.validation->tau;
-  p.predicted = c.predicted;
-  p.velocity = c.validation->qd;
+  const ModelComparison& held_out = d.held_out;
+  p.t = held_out.signals.t;
+  p.measured = held_out.signals.tau;
+  p.predicted = held_out.predicted;
+  p.velocity = held_out.signals.qd;
   p.error_labels.push_back("URDF prior");
   p.error_rms.push_back(d.prior_validation.rms);
   if (d.links_only_validation) {
@@ -543,7 +540,7 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
     p.error_labels.push_back("+ " + d.candidates[i].name);
     p.error_rms.push_back(d.candidates[i].validation.rms);
   }
-  for (const ResidualWindow& w : c.residuals.worst_windows) p.marked_windows.push_back({w.t_start, w.t_end});
+  for (const ResidualWindow& w : held_out.residuals.worst_windows) p.marked_windows.push_back({w.t_start, w.t_end});
   // The top suggestion's effect over the residual it explains (residual = model - measured, and the
   // measurement holds the effect: the residual follows minus the effect).
   if (d.num_suggestions > 0) {
@@ -554,7 +551,7 @@ void WriteJointDiagnosisReport(const std::string& directory, const JointDiagnosi
       const int n = model.num_dofs();
       p.effect_velocity = Eigen::MatrixXd::Zero(kPoints, n);
       p.effect_residual = Eigen::MatrixXd::Constant(kPoints, n, std::nan(""));
-      const double lo = c.validation->qd.col(k).minCoeff(), hi = c.validation->qd.col(k).maxCoeff();
+      const double lo = held_out.signals.qd.col(k).minCoeff(), hi = held_out.signals.qd.col(k).maxCoeff();
       for (int i = 0; i < kPoints; ++i) {
         const double v = lo + (hi - lo) * i / (kPoints - 1);
         const double effect = VelocityEffectTorque(top.spec, top.values, v);

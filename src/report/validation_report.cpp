@@ -7,16 +7,11 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/diagnosis_report.hpp"
-#include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/report/identification_report.hpp"
 #include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
-
-constexpr double kWindowSeconds = 1.0;  // as diagnose's "where it fails"
-constexpr int kWorstWindows = 3;
-
 
 std::string Percent(double share) { return std::isfinite(share) ? FormatFixed(100.0 * share, 2) + " %" : "n/a"; }
 
@@ -27,63 +22,11 @@ nlohmann::json PerChannel(const std::vector<std::string>& channels, const Eigen:
   return j;
 }
 
-constexpr int kNamedRows = 3;
-
-// Keeps the finite rows of v.signals / v.predicted, naming the others; throws if none is left.
-void LeaveOutNonFinite(ModelValidation* v) {
-  const std::vector<int> bad = NonFiniteRows(v->predicted, v->signals);
-  if (bad.empty()) return;
-  const JointSamples& s = v->signals;
-  for (int k = 0; k < static_cast<int>(bad.size()) && k < kNamedRows; ++k) {
-    const int i = bad[k];
-    std::string what = "the model's prediction";
-    for (int j = 0; j < s.tau.cols(); ++j) {
-      if (!(std::abs(s.tau(i, j)) < kLargestSquarable)) what = "tau_" + v->channels[j];
-      if (!std::isfinite(s.qd(i, j))) what = "qd_" + v->channels[j];
-    }
-    v->left_out_reasons.push_back("sample " + std::to_string(i) + " (t = " + FormatNumber(s.t[i], 10) + " s): " + what +
-                                  " is not finite or too large to square");
-  }
-  if (static_cast<int>(bad.size()) == s.size()) {
-    throw std::invalid_argument("no sample gives a finite prediction (first: " + v->left_out_reasons.front() +
-                                "): a coefficient or inertia of the model is too large, or the log's values are");
-  }
-  const std::vector<int> keep = RowsExcept(s.size(), bad);
-  Eigen::MatrixXd predicted(static_cast<int>(keep.size()), v->predicted.cols());
-  for (int r = 0; r < static_cast<int>(keep.size()); ++r) predicted.row(r) = v->predicted.row(keep[r]);
-  v->predicted = predicted;
-  v->signals = SelectSamples(s, keep);
-  v->left_out = static_cast<int>(bad.size());
-}
-
 }  // namespace
-
-std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data) {
-  std::vector<int> rows;
-  const int n = static_cast<int>(data.tau.cols());
-  for (int i = 0; i < data.size(); ++i) {
-    bool bad = !predicted.row(i).allFinite() || !data.q.row(i).allFinite() || !data.qd.row(i).allFinite() ||
-               !data.qdd.row(i).allFinite() || !data.tau.row(i).allFinite() || !std::isfinite(data.t[i]);
-    // A torque or an error whose square overflows (1e300 from a glitch) would make the RMS inf
-    // and the relative error NaN.
-    for (int c = 0; c < predicted.cols() && n > 0 && !bad; ++c) {
-      bad = !(std::abs(data.tau(i, c % n)) < kLargestSquarable) ||
-            !(std::abs(predicted(i, c) - data.tau(i, c % n)) < kLargestSquarable);
-    }
-    if (bad) rows.push_back(i);
-  }
-  return rows;
-}
 
 ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data) {
   ModelValidation v;
-  v.channels = model.dof_names();
-  v.unit = "N m";
-  v.predicted = PredictJointTorques(model, x, data);
-  v.signals = data;
-  LeaveOutNonFinite(&v);
-  v.errors = CompareTorques(v.predicted, v.signals.tau);
-  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
+  static_cast<ModelComparison&>(v) = CompareJointModel(model, x, data);
   bool consistent = true;
   v.model_json["bodies"] = BodiesJson(model, x, &consistent);
   v.model_json["effects"] = EffectsJson(model, x);
@@ -92,27 +35,8 @@ ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::Vect
 }
 
 ModelValidation ValidateBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data) {
-  const int P = data.num_pairs();
-  if (P < 1) throw std::invalid_argument("single-body validation needs at least 2 samples");
-  if (x.size() != model.num_parameters()) throw std::invalid_argument("single-body validation: wrong parameter count");
   ModelValidation v;
-  v.channels = {"mx", "my", "mz", "fx", "fy", "fz"};
-  v.unit = "N m | N";
-  JointSamples& s = v.signals;
-  s.joint_names = v.channels;
-  s.t.resize(P);
-  s.q = s.qdd = Eigen::MatrixXd::Zero(P, 6);
-  s.qd.resize(P, 6);
-  s.tau.resize(P, 6);
-  for (int i = 0; i < P; ++i) {
-    s.t[i] = 0.5 * (data.samples[i].t + data.samples[i + 1].t);
-    s.qd.row(i) = (0.5 * (data.samples[i].twist + data.samples[i + 1].twist)).transpose();
-    s.tau.row(i) = BodyEffectModel::MeasuredPair(data, i).transpose();
-  }
-  v.predicted = model.Residuals(x, data) + s.tau;
-  LeaveOutNonFinite(&v);
-  v.errors = CompareTorques(v.predicted, v.signals.tau);
-  v.residuals = AnalyzeResiduals(v.signals, v.predicted, kWindowSeconds, kWorstWindows);
+  static_cast<ModelComparison&>(v) = CompareBodyModel(model, x, data);
   const InertialParams body = model.Body(x);
   const ConsistencyReport report = CheckConsistency(body);
   v.physically_consistent = report.fully_consistent();

@@ -75,9 +75,11 @@ TEST(DiagnosisReport, WhereItFailsByHand) {
 
 TEST(DiagnosisReport, CandidateExplanationsByHand) {
   const RobotDynamics model = Leg();
+  JointDiagnosis d;
+  d.held_out.residuals = Residuals();
   JointDiagnosisContext c;
   c.model = &model;
-  c.residuals = Residuals();
+  c.diagnosis = &d;
   auto candidate = [](const std::string& item, std::vector<double> values) {
     CandidateResult r;
     r.spec = ParseEffectList(item).at(0);
@@ -191,9 +193,9 @@ TEST(DiagnosisReport, JsonOfALegMissingViscousFriction) {
   options.threads = 2;
   const RobotDynamics model = make({});
   const JointDiagnosis d = DiagnoseJointModel(make, {}, {}, logs.train, logs.test, options);
-  const JointDiagnosisContext c = MakeJointDiagnosisContext(model, d, logs.test, "test.csv", options.min_explained);
+  const JointDiagnosisContext c = MakeJointDiagnosisContext(model, d, "test.csv", options.min_explained);
   // The fit's held-out residual on the knee is -b qd (predicted - measured): slope -0.5 on velocity.
-  EXPECT_NEAR(c.residuals.joints[2].alone[kVelocity], -0.5, 0.05);
+  EXPECT_NEAR(d.held_out.residuals.joints[2].alone[kVelocity], -0.5, 0.05);
   const nlohmann::json j = JointDiagnosisJson(c);
   EXPECT_EQ(j["validation_source"], "test.csv");
   EXPECT_EQ(j["samples"]["validation"], logs.test.size());

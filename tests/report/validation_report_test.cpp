@@ -1,8 +1,7 @@
 // A model against measurements (validation_report.hpp), with errors known by construction: the
 // leg's torques computed by its recursive Newton-Euler inverse dynamics plus a constant offset per
 // joint, so each joint's RMS error is that offset and its relative RMS the offset over the RMS of
-// the torques (summed here); a glitched sample left out and named; the rows NonFiniteRows finds in
-// hand-made data; and a single body at rest without gravity whose force-bias model predicts the
+// the torques (summed here); a glitched sample left out and named; and a single body at rest without gravity whose force-bias model predicts the
 // bias alone, against a sensor that reads a constant wrench.
 #include "inertial/report/validation_report.hpp"
 
@@ -19,19 +18,6 @@
 
 namespace inertial {
 namespace {
-
-TEST(ValidationReport, NonFiniteRowsByHand) {
-  JointSamples d;
-  d.t = Eigen::VectorXd::LinSpaced(6, 0.0, 0.5);
-  d.q = d.qd = d.qdd = d.tau = Eigen::MatrixXd::Zero(6, 1);
-  Eigen::MatrixXd predicted = Eigen::MatrixXd::Zero(6, 2);  // two channels per joint: c mod 1 = 0
-  d.q(1, 0) = std::numeric_limits<double>::quiet_NaN();
-  d.tau(3, 0) = 2 * kLargestSquarable;
-  predicted(4, 1) = kLargestSquarable;  // its error reaches the bound
-  d.t[5] = std::numeric_limits<double>::infinity();
-  predicted(2, 0) = 0.5 * kLargestSquarable;  // large, but below the bound: kept
-  EXPECT_EQ(NonFiniteRows(predicted, d), (std::vector<int>{1, 3, 4, 5}));
-}
 
 TEST(ValidationReport, JointModelErrorsAreTheOffsetsAdded) {
   const RobotDynamics model(testing::LegChain(testing::LegPriorLinks()), testing::kLegJoints, {}, testing::NoLinks());

@@ -325,7 +325,7 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
     return kInvalidValue;
   }
   if (!path.empty()) model.emplace(make(d.effects));  // the final model, with every added effect
-  const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, validation, source, min_explained);
+  const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, source, min_explained);
   const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context);
   if (c.json) {
     nlohmann::json j = JointDiagnosisJson(context);

@@ -46,6 +46,7 @@
 
 #include "inertial/diagnosis/candidate_evidence.hpp"
 #include "inertial/diagnosis/departure_margins.hpp"
+#include "inertial/diagnosis/model_comparison.hpp"
 #include "inertial/estimation/parameter_layout.hpp"
 #include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/inertia/plausibility.hpp"
@@ -123,6 +124,8 @@ struct JointDiagnosis {
   /// With effects: the held-out errors of the links alone (no effect), fitted the same way, so that
   /// the effects' gain shows (before -> after).
   std::optional<TorqueErrors> links_only_validation;
+  /// The fitted model on the held-out data: its predictions and where it fails.
+  ModelComparison held_out;
   /// Every candidate tested: the suggestions first, then the others, each part by score.
   std::vector<CandidateResult> candidates;
   int num_suggestions = 0;

@@ -27,17 +27,14 @@
 
 namespace inertial {
 
-/// Everything the robot report needs: the model diagnosed and the residuals of its fit on the
-/// held-out data.
+/// Everything the robot report needs: the model diagnosed and its diagnosis (with the fit's
+/// held-out comparison, JointDiagnosis::held_out, where it fails).
 struct JointDiagnosisContext {
   const RobotDynamics* model = nullptr;  ///< the model diagnosed (its effects)
   const JointDiagnosis* diagnosis = nullptr;
-  const JointSamples* validation = nullptr;
   std::string validation_source;  ///< e.g. "test.csv" or "the last 30 % of train.csv"
   double min_explained = 0.02;
   double min_gain = 0.005;         ///< JointDiagnosisOptions::min_gain
-  Eigen::MatrixXd predicted;       ///< the fitted model's torques on the held-out samples
-  ResidualAnalysis residuals;      ///< of those predictions
 };
 
 /// Every identified body against its URDF (plausibility.hpp): mass ratio, COM shift, principal
@@ -54,10 +51,8 @@ std::string WhereItFailsText(const std::vector<std::string>& dof_names, const Re
 /// viscous_slope, acceleration_slope, position_slope, torque_slope, correlations, explained}}}.
 nlohmann::json WhereItFailsJson(const std::vector<std::string>& dof_names, const ResidualAnalysis& residuals);
 
-/// Fills predicted and residuals (1 s windows, the 3 worst).
 JointDiagnosisContext MakeJointDiagnosisContext(const RobotDynamics& model, const JointDiagnosis& diagnosis,
-                                                const JointSamples& validation, const std::string& validation_source,
-                                                double min_explained);
+                                                const std::string& validation_source, double min_explained);
 
 /// One line: what the residual shows and what is missing, with the fitted coefficient.
 std::string CandidateExplanation(const JointDiagnosisContext& c, const CandidateResult& candidate);

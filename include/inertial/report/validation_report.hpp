@@ -1,7 +1,7 @@
 /// @file validation_report.hpp
-/// `inertial validate` as a library: a given model (no fit) against measurements, its errors per
-/// channel and in total, where it fails (the residual signatures of residual_analysis.hpp, as
-/// `diagnose` shows them), and its text, JSON and --report outputs.
+/// `inertial validate` as a library: a given model (no fit) against measurements (the comparison
+/// of model_comparison.hpp: errors per channel and in total, where it fails, as `diagnose` shows
+/// them), and its text, JSON and --report outputs.
 ///
 /// Robots: the model is a URDF with its effects (model_file.hpp), x from its stated values;
 /// residual = predicted - measured torque per joint. Single bodies: a body pi and sensor effects
@@ -16,44 +16,22 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "inertial/estimation/batch/joint_identification.hpp"
-#include "inertial/diagnosis/residual_analysis.hpp"
-#include "inertial/model/body_effect_model.hpp"
-#include "inertial/model/robot_dynamics.hpp"
+#include "inertial/diagnosis/model_comparison.hpp"
 
 namespace inertial {
 
-/// A model's errors on a log. `signals` holds what the residual analysis saw: for robots the log
-/// itself; for single bodies one row per pair (t at the midpoint, "qd" the matching twist component).
-struct ModelValidation {
+/// A model's errors on a log (model_comparison.hpp), with what the report names: the model and the
+/// data, the model's bodies and effects as identify's JSON shows them, and their consistency.
+struct ModelValidation : ModelComparison {
   std::string model_source, data_source;
-  std::vector<std::string> channels;  ///< joint names, or mx .. fz
-  std::string unit;                   ///< "N m", or "N m | N"
-  TorqueErrors errors;
-  Eigen::MatrixXd predicted;  ///< rows = samples (pairs), columns = channels
-  JointSamples signals;
-  ResidualAnalysis residuals;
   nlohmann::json model_json;  ///< the model's bodies / body and effects, as identify's JSON shows them
   bool physically_consistent = true;
-  /// Samples left out of the errors because their measurement or the model's prediction is not
-  /// finite (a glitch such as qd = 1e300 in the log), with the first few named.
-  int left_out = 0;
-  std::vector<std::string> left_out_reasons;
 };
 
-/// Magnitudes at or above this cannot enter an RMS: their squares, summed over a log, overflow.
-inline constexpr double kLargestSquarable = 1e150;
-
-/// The rows (ascending) where `predicted` or any of data's q, qd, qdd, tau is not finite, or a
-/// torque or an error (predicted column c against data.tau column c mod joints) reaches
-/// kLargestSquarable.
-std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamples& data);
-
-/// The robot model at x on `data`; samples with a non-finite measurement or prediction are left
-/// out of the errors and named. @throws std::invalid_argument if the data do not fit the model, or
-/// no sample is left (naming why: e.g. a coefficient of the model so large that every prediction overflows).
+/// The robot model at x on `data` (CompareJointModel) and its bodies and effects.
+/// @throws std::invalid_argument as CompareJointModel.
 ModelValidation ValidateJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data);
-/// The single-body model at x on `data` (at least 2 samples). @throws std::invalid_argument likewise.
+/// The single-body model at x on `data` (CompareBodyModel). @throws std::invalid_argument likewise.
 ModelValidation ValidateBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data);
 
 std::string ValidationText(const ModelValidation& v);
