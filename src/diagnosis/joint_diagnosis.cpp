@@ -1,4 +1,5 @@
 #include "inertial/diagnosis/joint_diagnosis.hpp"
+#include "inertial/signal/sample_selection.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -836,12 +837,8 @@ std::vector<std::string> BentLinks(const JointDiagnosis& d) {
 }
 
 void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation) {
-  if (!(fraction > 0.0 && fraction < 1.0)) throw std::invalid_argument("holdout: the fraction must be in (0, 1)");
   const int N = data.size();
-  const int held = static_cast<int>(std::lround(fraction * N));
-  if (held < 2 || N - held < 2) {
-    throw std::invalid_argument("holdout: " + std::to_string(N) + " samples cannot be split into two parts of at least 2");
-  }
+  const int held = N - HoldoutStart(data.t, fraction);
   auto part = [&](int begin, int count, JointSamples* out) {
     out->joint_names = data.joint_names;
     out->t = data.t.segment(begin, count);

@@ -1,6 +1,7 @@
 #include "inertial/signal/sample_selection.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -34,6 +35,22 @@ JointSamples SelectSamples(const JointSamples& data, const std::vector<int>& kee
     out.tau.row(r) = data.tau.row(i);
   }
   return out;
+}
+
+int HoldoutStart(const Eigen::VectorXd& t, double fraction) {
+  if (!(fraction > 0.0 && fraction < 1.0)) throw std::invalid_argument("holdout: the fraction must be in (0, 1)");
+  const int N = static_cast<int>(t.size());
+  int start = N;
+  if (N > 0) {
+    const double cut = t[N - 1] - fraction * (t[N - 1] - t[0]);
+    start = static_cast<int>(std::lower_bound(t.data(), t.data() + N, cut) - t.data());
+  }
+  if (N - start < 2 || start < 2) {
+    throw std::invalid_argument("holdout: " + std::to_string(N) + " samples cannot be split into two parts of at least 2 (" +
+                                std::to_string(start) + " before the last " + std::to_string(std::lround(100 * fraction)) +
+                                " % of the time, " + std::to_string(N - start) + " in it)");
+  }
+  return start;
 }
 
 std::vector<int> RowsExcept(int n, const std::vector<int>& sorted_rows) {

@@ -170,8 +170,8 @@ JointDiagnosis IterateJointDiagnosis(const RobotModelFactory& make, const std::v
                                      const JointSamples& validation, const JointDiagnosisOptions& options,
                                      int max_steps, std::vector<DiagnosisStep>* steps);
 
-/// The last `fraction` of a log (by sample count) as held-out data, the rest for training.
-/// @throws std::invalid_argument unless 0 < fraction < 1 and both parts keep at least 2 samples.
+/// The last `fraction` of a log's duration (HoldoutStart, sample_selection.hpp) as held-out data,
+/// the rest for training. @throws std::invalid_argument as HoldoutStart.
 void SplitHoldout(const JointSamples& data, double fraction, JointSamples* train, JointSamples* validation);
 
 }  // namespace inertial

@@ -19,6 +19,11 @@ JointSamples SelectSamples(const JointSamples& data, const std::vector<int>& kee
 /// keep when `sorted_rows` are left out.
 std::vector<int> RowsExcept(int n, const std::vector<int>& sorted_rows);
 
+/// The first row of the held-out part of a log: the last `fraction` of its duration, by its time
+/// stamps (a jittered or paused log splits where its time says, not where its sample count does).
+/// @throws std::invalid_argument unless 0 < fraction < 1 and both parts keep at least 2 samples.
+int HoldoutStart(const Eigen::VectorXd& t, double fraction);
+
 /// The rows begin, begin + stride, ... below end (stride >= 1).
 std::vector<int> RowRange(int begin, int end, int stride = 1);
 
