@@ -74,6 +74,19 @@ ModelComparison CompareJointModel(const RobotDynamics& model, const Eigen::Vecto
   return v;
 }
 
+std::vector<ModelComparison> CompareJointModelByRun(const RobotDynamics& model, const Eigen::VectorXd& x,
+                                                    const RecordedRuns& runs) {
+  std::vector<ModelComparison> out;
+  for (int k = 0; k < runs.num_runs(); ++k) {
+    try {
+      out.push_back(CompareJointModel(model, x, runs.Run(k)));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(runs.names[static_cast<size_t>(k)] + ": " + e.what());
+    }
+  }
+  return out;
+}
+
 ModelComparison CompareBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data) {
   const int P = data.num_pairs();
   if (P < 1) throw std::invalid_argument("single-body validation needs at least 2 samples");

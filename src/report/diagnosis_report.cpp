@@ -9,6 +9,7 @@
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/report/run_errors_report.hpp"
 #include "inertial/model/number_text.hpp"
 
 namespace inertial {
@@ -316,6 +317,7 @@ void FitSection(std::ostringstream& out, const JointDiagnosisContext& c) {
     ErrorTable(out, model.dof_names(), *d.links_only_validation, d.fit_validation, "N m");
   }
   out << "\n" << PlausibilityText(model, d);
+  out << "\n" << RunErrorsText(c.run_names, c.runs, "The fitted model's held-out error");
   out << "\n" << WhereItFailsText(model.dof_names(), d.held_out.residuals, "held-out residual of the fitted model");
 }
 
@@ -467,6 +469,7 @@ nlohmann::json JointDiagnosisJson(const JointDiagnosisContext& c) {
   j["notes"] = d.notes;
   j["seconds"] = d.seconds;
   j["where_it_fails"] = WhereItFailsJson(model.dof_names(), d.held_out.residuals);
+  if (c.runs.size() > 1) j["runs"] = RunErrorsJson(c.run_names, c.runs);
   return j;
 }
 

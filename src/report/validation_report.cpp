@@ -8,6 +8,7 @@
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/diagnosis_report.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/report/run_errors_report.hpp"
 #include "inertial/model/number_text.hpp"
 
 namespace inertial {
@@ -70,6 +71,7 @@ std::string ValidationText(const ModelValidation& v) {
     out << "  left out: " << v.left_out << " samples whose measurement or prediction is not finite, e.g.\n";
     for (const std::string& r : v.left_out_reasons) out << "    " << r << "\n";
   }
+  out << RunErrorsText(v.run_names, v.runs, "The same");
   out << "\n";
   out << WhereItFailsText(v.channels, v.residuals, "residual of the model") << "\n";
   out << (v.physically_consistent ? "Every body of the model is physically consistent.\n"
@@ -87,6 +89,7 @@ nlohmann::json ValidationJson(const ModelValidation& v) {
   j["where_it_fails"] = WhereItFailsJson(v.channels, v.residuals);
   j["physically_consistent"] = v.physically_consistent;
   j["left_out"] = {{"samples", v.left_out}, {"reasons", v.left_out_reasons}};
+  if (v.runs.size() > 1) j["runs"] = RunErrorsJson(v.run_names, v.runs);
   return j;
 }
 

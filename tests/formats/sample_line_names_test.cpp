@@ -16,6 +16,13 @@ TEST(SampleLineNames, MessagesNamingASampleGetItsFileLine) {
                                                 "sample 3 beyond the log", "run.csv:3: the sample 1 of tau"}));
 }
 
+TEST(SampleLineNames, RunsLaidEndToEndNameTheirOwnFile) {
+  // a.csv's samples 0, 1 on lines 2, 3; b.csv's (samples 2, 3) on lines 2, 4.
+  std::vector<std::string> messages = {"sample 1: x", "sample 3: y", "sample 2 (t = 9 s)"};
+  NameSamplesByLine({"a.csv", "b.csv"}, {0, 2, 4}, {2, 3, 2, 4}, &messages);
+  EXPECT_EQ(messages, (std::vector<std::string>{"a.csv:3: sample 1: x", "b.csv:4: sample 3: y", "b.csv:2: sample 2 (t = 9 s)"}));
+}
+
 TEST(SampleLineNames, NoLinesLeavesEveryMessage) {
   std::vector<std::string> messages = {"sample 0"};
   NameSamplesByLine("run.csv", {}, &messages);

@@ -36,7 +36,8 @@ CLI::App* AddConvertCommand(CLI::App& app, ConvertCommand* command);
 int RunConvertCommand(const ConvertCommand& command);
 
 struct IdentifyCommand {
-  std::string model, data, validate, effects, predictions, write_urdf, time_scale;
+  std::string model, validate, effects, predictions, write_urdf, time_scale;
+  std::vector<std::string> data, run_payloads;  ///< --data (one or more runs), --run-payload
   std::string outlier_threshold = "0";
   bool no_outlier_rejection = false;
   std::string prior_weight = "0.01";
@@ -73,7 +74,8 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* command);
 int RunSimulateCommand(const SimulateCommand& command);
 
 struct DiagnoseCommand {
-  std::string model, data, validate, effects, report_dir, prior, time_scale;
+  std::string model, validate, effects, report_dir, prior, time_scale;
+  std::vector<std::string> data, run_payloads;  ///< --data (robots: one or more runs), --run-payload
   std::string holdout;  ///< empty: 0.3 unless --validate
   bool body = false;
   bool hold_links = false;
@@ -104,7 +106,8 @@ CLI::App* AddExportCommand(CLI::App& app, ExportCommand* command);
 int RunExportCommand(const ExportCommand& command);
 
 struct ValidateCommand {
-  std::string model, data, effects, effect_values, predictions, report_dir, pi, time_scale;
+  std::string model, effects, effect_values, predictions, report_dir, pi, time_scale;
+  std::vector<std::string> data, run_payloads;  ///< --data (robots: one or more runs), --run-payload
   std::string gravity = "0 0 -9.81", sg_order = "4", sg_window = "0.1";
   bool body = false, json = false, skip_bad_rows = false;
 };

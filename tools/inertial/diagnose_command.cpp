@@ -33,7 +33,13 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
   sub->add_option("--model", c->model, "URDF robot description (robot data)");
   sub->add_flag("--body", c->body,
                 "single-body data: CSV columns t, wx wy wz vx vy vz, mx my mz fx fy fz, optional gx gy gz");
-  sub->add_option("--data", c->data, "the log (CSV): training data")->required();
+  sub->add_option("--data", c->data,
+                  "the log (CSV): training data; robots: more than once for several runs fitted as one model (each "
+                  "differentiated on its own; without --validate the last --holdout of each is held out)")
+      ->required();
+  sub->add_option("--run-payload", c->run_payloads,
+                  "robots: FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE carried this known "
+                  "payload (identify --run-payload)");
   sub->add_option("--validate", c->validate, "held-out log (CSV)");
   sub->add_option("--holdout", c->holdout,
                   "without --validate: hold out this last fraction of --data (robots: default 0.3; --body: instead of "
@@ -181,7 +187,7 @@ int ReadBodyLogs(const DiagnoseCommand& c, double time_scale, BodyLog* all, Body
                  std::string* source, std::vector<std::string>* left_out) {
   try {
     std::vector<std::string> notices;
-    *all = ReadBodyCsv(c.data, &notices, time_scale);
+    *all = ReadBodyCsv(c.data[0], &notices, time_scale);
     if (!c.validate.empty()) {
       *validation = ReadBodyCsv(c.validate, &notices, time_scale);
       *source = c.validate;
@@ -191,7 +197,7 @@ int ReadBodyLogs(const DiagnoseCommand& c, double time_scale, BodyLog* all, Body
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
   }
-  LeaveOutGlitches(c.data, all, left_out);
+  LeaveOutGlitches(c.data[0], all, left_out);
   if (!c.validate.empty()) {
     *train = *all;
     LeaveOutGlitches(c.validate, validation, left_out);
@@ -214,8 +220,8 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
   if (status == kOk) status = ReadBodyLogs(c, time_scale, &all, &train, &validation, &context.validation_source, &context.left_out);
   const bool cross_validate = c.validate.empty() && c.holdout.empty();
   if (status == kOk && c.validate.empty() && !cross_validate) {
-    status = SplitOrFail(c.data, holdout, all, &train, &validation);
-    context.validation_source = HoldoutSource(c.data, holdout);
+    status = SplitOrFail(c.data[0], holdout, all, &train, &validation);
+    context.validation_source = HoldoutSource(c.data[0], holdout);
   }
   if (status != kOk) return status;
   BodyDiagnosisOptions options;
@@ -227,12 +233,12 @@ int RunBody(const DiagnoseCommand& c, double holdout, double min_explained, int 
     if (cross_validate) {
       d = DiagnoseBodyModelCrossValidated(context.prior, effects, all, options);
       validation = all;
-      context.validation_source = std::to_string(folds) + "-fold blocked cross-validation of " + c.data;
+      context.validation_source = std::to_string(folds) + "-fold blocked cross-validation of " + c.data[0];
     } else {
       d = DiagnoseBodyModel(context.prior, effects, train, validation, options);
     }
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    std::cerr << "Error: " << c.data[0] << ": " << e.what() << "\n";
     return kInvalidValue;
   }
   context.diagnosis = &d;
@@ -267,23 +273,36 @@ int ParseRobotOptions(const DiagnoseCommand& c, JointDiagnosisOptions* options, 
 
 // The robot's training and held-out logs (--validate, or the last `holdout` of --data), rows no
 // statistic can use left out; *source names the held-out data. kOk, or the exit code (printed).
-int ReadRobotLogs(const DiagnoseCommand& c, const RobotModel& robot, const JointCsvOptions& csv, double holdout,
-                  const RobotDynamics& links, JointSamples* train, JointSamples* validation, std::string* source) {
-  JointSamples all;
-  int status = ReadRobotLog(c.data, robot, csv, &all);
+int ReadRobotLogs(const DiagnoseCommand& c, const RobotModel& robot, const Vector3& gravity, const JointCsvOptions& csv,
+                  double holdout, const RobotDynamics& links, JointSamples* train, JointSamples* validation,
+                  std::string* source, RecordedRuns* held_runs) {
+  std::vector<RunPayload> payloads;
+  int status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
+  RecordedRuns all;
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &all);
+  const std::string data = RunsName(c.data);
   if (status == kOk && !c.validate.empty()) {
     status = ReadRobotLog(c.validate, robot, csv, validation);
-    *train = std::move(all);
+    *train = std::move(all.samples);
     *source = c.validate;
   }
   if (status != kOk) return status;
-  if (c.validate.empty()) {
-    status = SplitOrFail(c.data, holdout, all, train, validation);
-    if (status != kOk) return status;
-    *source = HoldoutSource(c.data, holdout);
+  if (c.validate.empty()) {  // the last share of each run held out
+    RecordedRuns train_runs;
+    try {
+      SplitRunsHoldout(all, holdout, &train_runs, held_runs);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kInvalidValue;
+    }
+    *train = std::move(train_runs.samples);
+    *validation = held_runs->samples;
+    *source = c.data.size() > 1 ? "the last " + std::to_string(static_cast<int>(std::lround(100 * holdout))) +
+                                      " % of each of " + data
+                                : HoldoutSource(data, holdout);
   }
-  status = LeaveOutUnusableRows(links, c.data, train);
-  if (status == kOk) status = LeaveOutUnusableRows(links, c.validate.empty() ? c.data : c.validate, validation);
+  status = LeaveOutUnusableRows(links, data, train);
+  if (status == kOk) status = LeaveOutUnusableRows(links, c.validate.empty() ? data : c.validate, validation);
   return status;
 }
 
@@ -308,7 +327,8 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   };
   JointSamples train, validation;
   std::string source;
-  status = ReadRobotLogs(c, robot, csv, holdout, make({}), &train, &validation, &source);
+  RecordedRuns held_runs;
+  status = ReadRobotLogs(c, robot, gravity, csv, holdout, make({}), &train, &validation, &source, &held_runs);
   if (status != kOk) return status;
   std::vector<DiagnosisStep> path;
   JointDiagnosis d;
@@ -321,11 +341,15 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
                     : DiagnoseJointModel(make, effects, robot.body_links, train, validation, options);
     progress.Done();
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: " << c.data << ": " << e.what() << "\n";
+    std::cerr << "Error: " << RunsName(c.data) << ": " << e.what() << "\n";
     return kInvalidValue;
   }
   if (!path.empty()) model.emplace(make(d.effects));  // the final model, with every added effect
-  const JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, source, min_explained);
+  JointDiagnosisContext context = MakeJointDiagnosisContext(*model, d, source, min_explained);
+  if (held_runs.num_runs() > 1) {  // the held-out errors run by run (the pooled ones are the diagnosis's)
+    context.run_names = held_runs.names;
+    context.runs = CompareJointModelByRun(*model, d.fit.x, held_runs);
+  }
   const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context);
   if (c.json) {
     nlohmann::json j = JointDiagnosisJson(context);
@@ -382,10 +406,13 @@ int RunDiagnoseCommand(const DiagnoseCommand& c) {
   if (status == kOk && !c.time_scale.empty()) {
     status = ParseRealOption(c.time_scale, "--time-scale", 1e-15, 1e6, &time_scale);
   }
-  if (status == kOk) {
-    status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(),
-                                    {{"--data", c.data}, {"--validate", c.validate}, {"--model", c.model}});
+  if (status == kOk && c.body && (c.data.size() > 1 || !c.run_payloads.empty())) {
+    std::cerr << "Error: --body diagnoses one log: give --data once, without --run-payload\n";
+    status = kUsage;
   }
+  std::vector<PathOption> inputs{{"--validate", c.validate}, {"--model", c.model}};
+  for (const std::string& d : c.data) inputs.push_back({"--data", d});
+  if (status == kOk) status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(), inputs);
   if (status == kOk) status = PrepareReportDirectory(c.report_dir);
   if (status != kOk) return status;
   return c.body ? RunBody(c, holdout, min_explained, max_iterations, time_scale, folds)

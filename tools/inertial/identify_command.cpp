@@ -12,6 +12,7 @@
 #include "inertial/formats/torque_predictions.hpp"
 #include "inertial/report/fit_failure_text.hpp"
 #include "inertial/report/uncertainty_report.hpp"
+#include "inertial/report/run_errors_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -25,7 +26,14 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
       "Every identified body is physically consistent. CSV contract: header; t [s] strictly increasing; for each "
       "moving joint J of the URDF q_J and tau_J, optionally qd_J and qdd_J (else Savitzky-Golay derivatives).");
   sub->add_option("--model", c->model, "URDF robot description")->required();
-  sub->add_option("--data", c->data, "training log (CSV)")->required();
+  sub->add_option("--data", c->data,
+                  "training log (CSV); give it more than once for several runs of the robot, fitted as one model "
+                  "(each run differentiated on its own)")
+      ->required();
+  sub->add_option("--run-payload", c->run_payloads,
+                  "FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE (a --data file) was "
+                  "recorded carrying this known payload on LINK (COM and inertia about the COM in LINK's frame); its "
+                  "torques are taken out of that run's");
   sub->add_option("--validate", c->validate, "validation log (CSV): errors of the prior and of the fit on it");
   sub->add_option("--effects", c->effects,
                   "effects beyond rigid links, e.g. viscous,coulomb@knee:scale=0.05,offset,armature,spring,"
@@ -107,7 +115,7 @@ int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotD
     if (c.write_urdf.empty()) return kOk;
     ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
     if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
-    WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + c.data);
+    WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + RunsName(c.data));
     std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()
               << " joint effect terms\n";
   } catch (const CsvError& e) {
@@ -123,8 +131,9 @@ int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotD
 }  // namespace
 
 int RunIdentifyCommand(const IdentifyCommand& c) {
-  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--write-urdf", c.write_urdf}},
-                                       {{"--model", c.model}, {"--data", c.data}, {"--validate", c.validate}});
+  std::vector<PathOption> inputs{{"--model", c.model}, {"--validate", c.validate}};
+  for (const std::string& d : c.data) inputs.push_back({"--data", d});
+  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--write-urdf", c.write_urdf}}, inputs);
   JointIdentificationOptions options;
   JointCsvOptions csv;
   OutlierOptions outliers;
@@ -135,27 +144,37 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   std::vector<EffectSpec> effects;
   std::optional<RobotDynamics> model;
   if (status == kOk) status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
-  JointSamples train, validation;
+  std::vector<RunPayload> payloads;
+  if (status == kOk) status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
+  RecordedRuns runs;
+  JointSamples validation;
   std::vector<int> train_lines;
-  if (status == kOk) status = ReadRobotLog(c.data, robot, csv, &train, &train_lines);
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, &train_lines);
   if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
   if (status != kOk) return status;
+  const JointSamples& train = runs.samples;
+  const std::string data = RunsName(c.data);
   if (train.size() < 2) {
-    std::cerr << "Error: " << c.data << ": " << train.size() << " samples; identification needs more\n";
+    std::cerr << "Error: " << data << ": " << train.size() << " samples; identification needs more\n";
     return kInvalidValue;
   }
   IdentificationRun run;
-  status = Fit(c.data, *model, train, c.validate.empty() ? nullptr : &validation, options, outliers, &run);
+  status = Fit(data, *model, train, c.validate.empty() ? nullptr : &validation, options, outliers, &run);
   if (status != kOk) return status;
-  NameSamplesByLine(c.data, train_lines, &run.outliers.reasons);  // rejected rows by their line in the file
+  NameSamplesByLine(c.data, runs.starts, train_lines, &run.outliers.reasons);  // rejected rows by their file and line
   if (run.failed()) {
-    std::cerr << FitFailureText(c.data, run, train, outliers.enabled);
+    std::cerr << FitFailureText(data, run, train, outliers.enabled);
     return kInvalidValue;
   }
+  // Several runs: the fit's error on each (every sample of it, rows the screening left out included).
+  const std::vector<ModelComparison> per_run =
+      runs.num_runs() > 1 ? CompareJointModelByRun(*model, run.fit.x, runs) : std::vector<ModelComparison>{};
   if (c.json) {
-    std::cout << IdentificationJson(*model, run).dump(2) << "\n";
+    nlohmann::json j = IdentificationJson(*model, run);
+    if (!per_run.empty()) j["runs"] = RunErrorsJson(runs.names, per_run);
+    std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << IdentificationText(*model, run);
+    std::cout << IdentificationText(*model, run) << RunErrorsText(runs.names, per_run, "The fit's error on the training runs");
   }
   status = WriteOutputs(c, robot, *model, run, c.validate.empty() ? train : validation);
   if (status == kOk && !run.fit.lm.converged()) {

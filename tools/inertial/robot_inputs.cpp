@@ -7,6 +7,10 @@
 #include "option_parsing.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/number_parsing.hpp"
+#include "inertial/inertia/closed_form_bodies.hpp"
+#include "inertial/inertia/consistency.hpp"
+#include "inertial/model/body_torques.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial::cli {
 
@@ -83,6 +87,128 @@ int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCs
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);
+  }
+  return kOk;
+}
+
+namespace {
+
+// "mass=2.8" of a --run-payload item into key, value; false if there is no '='.
+bool SplitKey(const std::string& part, std::string* key, std::string* value) {
+  const std::size_t eq = part.find('=');
+  if (eq == std::string::npos) return false;
+  *key = part.substr(0, eq);
+  *value = part.substr(eq + 1);
+  return true;
+}
+
+// The body of one --run-payload item from its keys; throws std::invalid_argument (usage) or
+// InvalidNumber.
+InertialParams PayloadBody(const std::vector<std::string>& parts, const std::string& item) {
+  std::optional<double> mass;
+  std::optional<Vector3> com;
+  std::optional<std::vector<double>> inertia;
+  for (size_t k = 1; k < parts.size(); ++k) {
+    std::string key, value;
+    if (!SplitKey(parts[k], &key, &value)) throw std::invalid_argument("'" + parts[k] + "' is not key=value");
+    const std::vector<double> v = ParseNumberList(value, "--run-payload " + key);
+    const size_t expected = key == "mass" ? 1 : key == "com" ? 3 : key == "inertia" ? 6 : 0;
+    if (expected == 0) throw std::invalid_argument("unknown key '" + key + "' (mass, com, inertia)");
+    if (v.size() != expected) throw std::invalid_argument(NumberCountError(key, expected, v.size(), value));
+    if (key == "mass") mass = v[0];
+    if (key == "com") com = Vector3(v[0], v[1], v[2]);
+    if (key == "inertia") inertia = v;
+  }
+  if (!mass || !com) {
+    throw std::invalid_argument("give the payload's mass= and com= (a COM you do not know: `inertial payload` finds it)");
+  }
+  if (!(*mass > 0.0)) throw std::invalid_argument("the mass must be positive");
+  Matrix3 I_com;
+  if (inertia) {
+    const std::vector<double>& i = *inertia;
+    I_com << i[0], i[3], i[4], i[3], i[1], i[5], i[4], i[5], i[2];
+  } else {
+    I_com = SolidSphere(*mass, 0.01).rotational_inertia_about_com();
+  }
+  const InertialParams body = InertialParams::FromMassComInertia(*mass, *com, I_com);
+  if (!CheckConsistency(body).fully_consistent()) {
+    throw InvalidNumber("--run-payload " + item + ": the inertia is not that of a real body (its principal moments "
+                        "must be positive and each at most the sum of the other two)");
+  }
+  return body;
+}
+
+}  // namespace
+
+int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<std::string>& files,
+                     std::vector<RunPayload>* payloads) {
+  for (const std::string& item : items) {
+    RunPayload p;
+    p.text = item;
+    const std::size_t eq = item.find('=');
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument("expected FILE=LINK:mass=M:com=X,Y,Z");
+      p.file = item.substr(0, eq);
+      if (std::find(files.begin(), files.end(), p.file) == files.end()) {
+        throw std::invalid_argument("'" + p.file + "' is not one of the --data files (" + RunsName(files) + ")");
+      }
+      std::vector<std::string> parts;
+      std::string rest = item.substr(eq + 1);
+      for (std::size_t at; (at = rest.find(':')) != std::string::npos; rest = rest.substr(at + 1)) parts.push_back(rest.substr(0, at));
+      parts.push_back(rest);
+      p.link = parts[0];
+      if (p.link.empty()) throw std::invalid_argument("no link after '='");
+      p.body = PayloadBody(parts, item);
+    } catch (const InvalidNumber& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kInvalidValue;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --run-payload " << item << ": " << e.what() << "\n";
+      return kUsage;
+    }
+    payloads->push_back(p);
+  }
+  return kOk;
+}
+
+std::string RunsName(const std::vector<std::string>& files) {
+  std::string name;
+  for (const std::string& f : files) name += (name.empty() ? "" : " + ") + f;
+  return name;
+}
+
+int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
+                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines) {
+  std::vector<JointSamples> logs(files.size());
+  for (size_t k = 0; k < files.size(); ++k) {
+    std::vector<int> run_lines;
+    const int status = ReadRobotLog(files[k], robot, csv, &logs[k], &run_lines);
+    if (status != kOk) return status;
+    if (lines != nullptr) lines->insert(lines->end(), run_lines.begin(), run_lines.end());
+    for (const RunPayload& p : payloads) {
+      if (p.file != files[k]) continue;
+      std::vector<EffectSpec> effect = ParseEffectList("payload@" + p.link);
+      effect[0].inertia = p.body;
+      try {
+        const RobotDynamics with(MakeRobotDynamics(robot, effect, gravity));
+        logs[k].tau -= BodyTorques(with, static_cast<int>(with.bodies().size()) - 1, logs[k]);
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "Error: --run-payload " << p.text << ": " << e.what() << "\n";
+        return kUsage;
+      }
+      std::cerr << "note: " << files[k] << ": the torques of the known payload on " << p.link << " (" << p.body.mass()
+                << " kg) are taken out of this run's\n";
+    }
+  }
+  try {
+    *runs = JoinRuns(files, logs);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  for (int k = 1; k < runs->num_runs(); ++k) {
+    std::cerr << "note: " << files[static_cast<size_t>(k)] << " follows " << files[static_cast<size_t>(k) - 1]
+              << " in one log: its times + " << FormatNumber(runs->shifts[static_cast<size_t>(k)], 6) << " s\n";
   }
   return kOk;
 }

@@ -7,6 +7,7 @@
 
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/joint_csv.hpp"
+#include "inertial/signal/recorded_runs.hpp"
 
 namespace inertial::cli {
 
@@ -26,5 +27,29 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
 /// *lines (optional) gets each sample's line in the file.
 int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCsvOptions& csv, JointSamples* samples,
                  std::vector<int>* lines = nullptr);
+
+/// A payload carried, and known, during one run: `--run-payload FILE=LINK:mass=M:com=X,Y,Z` with
+/// optionally `:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ` (kg m^2 about its COM, in LINK's frame; without
+/// it, a sphere of radius 1 cm: a point mass to within the torque its own rotation adds).
+struct RunPayload {
+  std::string file, link, text;
+  InertialParams body;  ///< in LINK's frame
+};
+
+/// Parses --run-payload items against the --data files. kUsage naming the item and what is wrong
+/// (no such file among --data, no LINK, a missing mass or COM, an unknown key), kInvalidValue on a
+/// bad number or an inconsistent body; the error printed.
+int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<std::string>& files,
+                     std::vector<RunPayload>* payloads);
+
+/// Reads every run (ReadRobotLog: each differentiated on its own), takes each known payload's
+/// torques (model/body_torques.hpp) out of its run's, and lays the runs end to end
+/// (signal/recorded_runs.hpp); *lines (optional) gets each sample's line in its file. kOk, or the
+/// exit code (the error printed; kUsage for a payload on a link the robot does not have).
+int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
+                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines = nullptr);
+
+/// The --data files as one name for messages: "a.csv" or "a.csv + b.csv".
+std::string RunsName(const std::vector<std::string>& files);
 
 }  // namespace inertial::cli

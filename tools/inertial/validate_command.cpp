@@ -27,7 +27,13 @@ CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* c) {
   sub->add_option("--model", c->model, "URDF robot model (robot data)");
   sub->add_flag("--body", c->body, "single-body data (CSV of diagnose --body); the body is --pi");
   sub->add_option("--pi", c->pi, "--body: the body's pi [m hx hy hz Ixx Iyy Izz Ixy Iyz Ixz]");
-  sub->add_option("--data", c->data, "the log (CSV) to judge the model on")->required();
+  sub->add_option("--data", c->data,
+                  "the log (CSV) to judge the model on; robots: more than once for several runs (each judged, and all "
+                  "pooled)")
+      ->required();
+  sub->add_option("--run-payload", c->run_payloads,
+                  "robots: FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE carried this known "
+                  "payload (identify --run-payload)");
   sub->add_option("--effects", c->effects,
                   "effects to add to the model's own (robots: identify's syntax, e.g. viscous@knee,offset; --body: "
                   "force_bias,moment_bias,velocity_bias,gravity), with their values in --effect-values");
@@ -162,21 +168,27 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
     std::cerr << "Error: " << c.model << (c.effects.empty() ? "" : " with --effects " + c.effects) << ": " << e.what() << "\n";
     return kUsage;
   }
-  JointSamples data;
-  status = ReadRobotLog(c.data, robot, csv, &data);
+  std::vector<RunPayload> payloads;
+  status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
+  RecordedRuns runs;
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs);
   if (status != kOk) return status;
   ModelValidation v;
   try {
-    v = ValidateJointModel(*model, x, data);
+    v = ValidateJointModel(*model, x, runs.samples);
+    if (runs.num_runs() > 1) {
+      v.run_names = runs.names;
+      v.runs = CompareJointModelByRun(*model, x, runs);
+    }
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: " << c.model << " on " << c.data << ": " << e.what() << "\n";
+    std::cerr << "Error: " << c.model << " on " << RunsName(c.data) << ": " << e.what() << "\n";
     return kInvalidValue;
   }
   v.model_source = c.model;
   for (const ModelEffect& m : effects) {
     v.model_source += (&m == &effects.front() ? " with " : ", ") + std::string(ToString(m.spec.kind)) + "@" + m.spec.target;
   }
-  v.data_source = c.data;
+  v.data_source = RunsName(c.data);
   return Finish(c, v);
 }
 
@@ -215,7 +227,7 @@ int RunBody(const ValidateCommand& c, double time_scale) {
   BodyLog log;
   try {
     std::vector<std::string> notices;
-    log = ReadBodyCsv(c.data, &notices, time_scale);
+    log = ReadBodyCsv(c.data[0], &notices, time_scale);
     for (const std::string& n : notices) std::cerr << "note: " << n << "\n";
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
@@ -225,12 +237,12 @@ int RunBody(const ValidateCommand& c, double time_scale) {
   try {
     v = ValidateBodyModel(model, x, log);
   } catch (const std::invalid_argument& e) {
-    std::cerr << "Error: --pi on " << c.data << ": " << e.what() << "\n";
+    std::cerr << "Error: --pi on " << c.data[0] << ": " << e.what() << "\n";
     return kInvalidValue;
   }
   v.model_source = "the body --pi";
   for (BodyEffectKind k : kinds) v.model_source += " + " + std::string(ToString(k));
-  v.data_source = c.data;
+  v.data_source = c.data[0];
   return Finish(c, v);
 }
 
@@ -250,11 +262,14 @@ int RunValidateCommand(const ValidateCommand& c) {
     std::cerr << "Error: --pi is for --body data (a robot's bodies are in its URDF)\n";
     return kUsage;
   }
-  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--report", c.report_dir}},
-                                       {{"--data", c.data}, {"--model", c.model}});
-  if (status == kOk) {
-    status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(), {{"--data", c.data}, {"--model", c.model}});
+  if (c.body && (c.data.size() > 1 || !c.run_payloads.empty())) {
+    std::cerr << "Error: --body judges one log: give --data once, without --run-payload\n";
+    return kUsage;
   }
+  std::vector<PathOption> inputs{{"--model", c.model}};
+  for (const std::string& d : c.data) inputs.push_back({"--data", d});
+  int status = RefuseOverwritingInputs({{"--predictions", c.predictions}, {"--report", c.report_dir}}, inputs);
+  if (status == kOk) status = RefuseReportOverInputs(c.report_dir, DiagnosisReportFileNames(), inputs);
   if (status != kOk) return status;
   JointCsvOptions csv;
   csv.skip_bad_rows = c.skip_bad_rows;

@@ -17,6 +17,7 @@
 #include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/model/body_effect_model.hpp"
 #include "inertial/model/robot_dynamics.hpp"
+#include "inertial/signal/recorded_runs.hpp"
 
 namespace inertial {
 
@@ -54,6 +55,10 @@ std::vector<int> NonFiniteRows(const Eigen::MatrixXd& predicted, const JointSamp
 /// out and named. @throws std::invalid_argument if the data do not fit the model, or no sample is
 /// left (naming why: e.g. a coefficient of the model so large that every prediction overflows).
 ModelComparison CompareJointModel(const RobotDynamics& model, const Eigen::VectorXd& x, const JointSamples& data);
+/// The same, run by run (runs.Run(k): each run's own errors and signatures).
+/// @throws std::invalid_argument as CompareJointModel, naming the run.
+std::vector<ModelComparison> CompareJointModelByRun(const RobotDynamics& model, const Eigen::VectorXd& x,
+                                                    const RecordedRuns& runs);
 /// The single-body model at x on `data` (at least 2 samples). @throws std::invalid_argument likewise.
 ModelComparison CompareBodyModel(const BodyEffectModel& model, const Eigen::VectorXd& x, const BodyLog& data);
 

@@ -12,5 +12,9 @@ namespace inertial {
 /// `lines` (lines[N]: the file line of sample N, as the CSV readers give them; text that is not a
 /// number reads as 0); other messages are left as they are.
 void NameSamplesByLine(const std::string& file, const std::vector<int>& lines, std::vector<std::string>* messages);
+/// The same for runs laid end to end (signal/recorded_runs.hpp): sample N is in run k where
+/// starts[k] <= N < starts[k + 1], read from files[k] at line lines[N].
+void NameSamplesByLine(const std::vector<std::string>& files, const std::vector<int>& starts, const std::vector<int>& lines,
+                       std::vector<std::string>* messages);
 
 }  // namespace inertial

@@ -35,6 +35,10 @@ struct JointDiagnosisContext {
   std::string validation_source;  ///< e.g. "test.csv" or "the last 30 % of train.csv"
   double min_explained = 0.02;
   double min_gain = 0.005;         ///< JointDiagnosisOptions::min_gain
+  /// Several runs: the fitted model's held-out comparison run by run (the pooled one is the
+  /// diagnosis's held_out).
+  std::vector<std::string> run_names;
+  std::vector<ModelComparison> runs;
 };
 
 /// Every identified body against its URDF (plausibility.hpp): mass ratio, COM shift, principal

@@ -26,6 +26,10 @@ struct ModelValidation : ModelComparison {
   std::string model_source, data_source;
   nlohmann::json model_json;  ///< the model's bodies / body and effects, as identify's JSON shows them
   bool physically_consistent = true;
+  /// Several runs (validate with --data more than once): each run's own comparison, the pooled one
+  /// being the fields above.
+  std::vector<std::string> run_names;
+  std::vector<ModelComparison> runs;
 };
 
 /// The robot model at x on `data` (CompareJointModel) and its bodies and effects.
