@@ -95,8 +95,9 @@ TEST(DiagnoseCli, NamesTheMissingEffectAndWatchesTheErrorFall) {
 
 TEST(DiagnoseCli, HoldsOutTheEndOfTheLog) {
   const nlohmann::json j = Diagnose({"--holdout", "0.25"});
-  EXPECT_EQ(j["samples"]["validation"].get<int>(), 3750);  // 25 % of 15001 samples
-  EXPECT_EQ(j["samples"]["train"].get<int>(), 15001 - 3750);
+  // The last 25 % of 30 s at 500 Hz (15001 samples): t >= 22.5 s, samples 11250 to 15000.
+  EXPECT_EQ(j["samples"]["validation"].get<int>(), 3751);
+  EXPECT_EQ(j["samples"]["train"].get<int>(), 15001 - 3751);
   ASSERT_GE(j["suggestions"].size(), 1u);
   EXPECT_EQ(j["suggestions"][0]["name"], "coulomb@knee");
 }
