@@ -108,8 +108,8 @@ JointSamples PayloadDifferenceSamples(const RobotDynamics& model, const std::str
   if (joint != nullptr) *joint = model.dof_names()[worst_joint];
   if (!(worst <= max_position_mismatch)) {
     throw std::invalid_argument(
-        "the with-payload and baseline runs do not follow the same trajectory: joint " + model.dof_names()[worst_joint] +
-        "'s positions differ by " + FormatNumber(rms[worst_joint], 3) + " RMS at the same time since start, " +
+        "the with-payload and baseline runs do not follow the same trajectory: " + model.dof_names()[worst_joint] +
+        "'s positions differ by " + FormatNumber(rms[worst_joint], 3) + " (rad or m) RMS at the same time since start, " +
         FormatNumber(100 * worst, 3) + " % of its range of motion " + FormatNumber(range[worst_joint], 3) +
         " (at most " + FormatNumber(100 * max_position_mismatch, 3) +
         " %); record the baseline with the same trajectory, started the same way");

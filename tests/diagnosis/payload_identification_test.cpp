@@ -126,7 +126,7 @@ TEST(PayloadIdentification, RefusesABaselineOfAnotherTrajectory) {
     PayloadDifferenceSamples(model, "tool0", with, other, 0.01);
     ADD_FAILURE() << "a baseline of another trajectory was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("do not follow the same trajectory: joint joint"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("do not follow the same trajectory: joint"), std::string::npos)
         << e.what();
   }
   // Joint effects do not belong in the difference's model, and the payload must be in it.
