@@ -24,6 +24,11 @@ PayloadValues PayloadValuesOf(const InertialParams& payload) {
   return PayloadValues{payload.mass(), payload.com(), payload.rotational_inertia_about_com()};
 }
 
+std::optional<PayloadValues> PayloadValuesOf(const PayloadEvent& event) {
+  if (!(event.added_mass > 0) || !event.added_pi.allFinite()) return std::nullopt;
+  return PayloadValuesOf(InertialParams::FromVector(event.added_pi));
+}
+
 std::string UrScriptPayload(const PayloadValues& p) {
   const Matrix3& I = p.inertia_about_com;
   return "set_target_payload(" + X(p.mass) + ", [" + List({p.com.x(), p.com.y(), p.com.z()}) + "], [" +

@@ -2,12 +2,14 @@
 // strings written out by hand for a hand-made payload: m = 2.5 kg, COM (0.01, -0.02, 0.05) m,
 // inertia about the COM [[0.04, -0.001, 0.002], [-0.001, 0.05, 0.003], [0.002, 0.003, 0.06]] kg m^2
 // (numbers whose shortest round-trip spelling is the plain decimal); the report's text and JSON
-// carry the same strings, the standard deviations, and the held quantities' names.
+// carry the same strings, the standard deviations, and the held quantities' names; an online
+// pick-up event gives the same strings for the same body, a put-down none.
 #include "inertial/report/payload_report.hpp"
 
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace inertial {
@@ -108,6 +110,29 @@ TEST(PayloadReport, TextNamesHeldQuantitiesAndCarriesTheControllerStrings) {
   EXPECT_NE(text.find("\n  " + UrScriptPayload(p) + "\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\n  " + FrankaSetLoad(p) + "\n"), std::string::npos) << text;
   EXPECT_NE(text.find("\n  <link name=\"payload\">\n    <inertial>\n"), std::string::npos) << text;
+}
+
+TEST(PayloadReport, AnOnlinePickUpEventInTheSameForm) {
+  const PayloadValues p = HandMade();
+  const InertialParams body = InertialParams::FromMassComInertia(p.mass, p.com, p.inertia_about_com);
+  PayloadEvent pick;
+  pick.link = "link7";
+  pick.added_mass = body.mass();
+  pick.added_pi = body.vector();
+  const std::optional<PayloadValues> v = PayloadValuesOf(pick);
+  ASSERT_TRUE(v.has_value());
+  EXPECT_EQ(UrScriptPayload(*v), UrScriptPayload(PayloadValuesOf(body)));
+  EXPECT_EQ(FrankaSetLoad(*v), FrankaSetLoad(PayloadValuesOf(body)));
+  // A put-down removes a body: what the controller holds afterwards is not in the event.
+  PayloadEvent place = pick;
+  place.added_mass = -body.mass();
+  place.added_pi = -body.vector();
+  EXPECT_FALSE(PayloadValuesOf(place).has_value());
+  // An event without a fit (the arm did not move enough): NaN quantities.
+  PayloadEvent unknown;
+  unknown.added_mass = std::numeric_limits<double>::quiet_NaN();
+  unknown.added_pi.setConstant(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_FALSE(PayloadValuesOf(unknown).has_value());
 }
 
 }  // namespace

@@ -18,8 +18,10 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
+#include "inertial/diagnosis/payload_event.hpp"
 #include "inertial/diagnosis/payload_identification.hpp"
 #include "inertial/inertia/types.hpp"
 
@@ -35,6 +37,14 @@ struct PayloadValues {
 
 /// From a body (in the link's frame). Precondition: positive mass.
 PayloadValues PayloadValuesOf(const InertialParams& payload);
+
+/// The body an online payload event (payload_event.hpp) added, in its link's report frame (the
+/// link the event names, which for the controllers must be the flange's body): for a pick-up
+/// (positive added mass, finite). nullopt for a put-down (the controller's payload afterwards is
+/// what it held before, which the event does not know) or an event without a fit. The event's
+/// added pi is an unconstrained least-squares fit, so its inertia about the COM is printed as it
+/// is, not checked for consistency.
+std::optional<PayloadValues> PayloadValuesOf(const PayloadEvent& event);
 
 /// "set_target_payload(2.5, [0.01, -0.02, 0.05], [Ixx, Iyy, Izz, Ixy, Ixz, Iyz])".
 std::string UrScriptPayload(const PayloadValues& p);
