@@ -1,7 +1,8 @@
 // End-to-end tests of `inertial payload`: the built CLI on logs `inertial simulate` writes of the
 // bundled 7-DOF arm holding a 2 kg payload on its flange (tool0), against the model and minus a
-// baseline run of the same trajectory; the refusals of a link that does not exist (or is fixed to
-// the base) and of a baseline of another trajectory.
+// baseline run of the same trajectory; the friction a URDF states as <dynamics> fitted; the
+// refusals of a link that does not exist (or is fixed to the base) and of a baseline of another
+// trajectory.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -17,15 +18,21 @@ using testing::Describe;
 using testing::Example;
 using testing::RunCli;
 
-// `inertial simulate` of the arm for 8 s at 200 Hz with trajectory seed `seed`; `effects` and
-// torque noise `noise` as given. Returns the log's path.
-std::string Simulate(const std::string& stem, const std::string& effects, const std::string& noise, int seed) {
+// `inertial simulate` of the arm for 8 s at 200 Hz with trajectory seed `seed`; `effects`, their
+// --effect-values `values` (empty: simulate's default 0.1) and torque noise `noise` as given.
+// Returns the log's path.
+std::string Simulate(const std::string& stem, const std::string& effects, const std::string& noise, int seed,
+                     const std::string& values = "") {
   const std::string path = testing::UniqueTempPath(stem + ".csv").string();
   std::vector<std::string> args = {"simulate", "--model", Example("arm7.urdf"), "--out", path, "--duration", "8",
                                    "--rate", "200", "--noise-tau", noise, "--seed", std::to_string(seed)};
   if (!effects.empty()) {
     args.push_back("--effects");
     args.push_back(effects);
+  }
+  if (!values.empty()) {
+    args.push_back("--effect-values");
+    args.push_back(values);
   }
   const testing::CliRun r = RunCli(args);
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
@@ -74,6 +81,24 @@ TEST(PayloadCli, AgainstTheModelAndFromTheDifference) {
   ASSERT_EQ(text.exit_code, 0) << Describe(text);
   EXPECT_TRUE(Contains(text.out, "Universal Robots (URScript):\n  set_target_payload(")) << text.out;
   EXPECT_TRUE(Contains(text.out, "Franka (libfranka, C++):\n  robot.setLoad(")) << text.out;
+}
+
+// Against the model, the friction a URDF states as <dynamics> is part of the model and fitted:
+// the residual is the noise.
+TEST(PayloadCli, TheModelFilesDynamicsAreFitted) {
+  std::string urdf = testing::ReadFile(Example("arm7.urdf"));
+  for (size_t at = urdf.find("<limit "); at != std::string::npos; at = urdf.find("<limit ", at + 1)) {
+    const size_t end = urdf.find("/>", at) + 2;
+    urdf.insert(end, "<dynamics damping=\"0.3\" friction=\"0.3\"/>");
+  }
+  const std::string model = testing::WriteUniqueTempFile("arm_dynamics.urdf", urdf);
+  const std::string with = Simulate("with", "viscous,coulomb,payload@tool0:mass=2", "0.1", 5, "0.3");
+  const testing::CliRun r = RunCli({"payload", "--model", model, "--data", with, "--link", "tool0", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_LT(j["residual_rms"].get<double>(), 0.12) << r.out;
+  EXPECT_NEAR(j["mass"].get<double>(), 2.0, 0.04) << r.out;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(j["com"][i].get<double>(), 0.0, 0.005) << r.out;
 }
 
 TEST(PayloadCli, RefusesABaselineOfAnotherTrajectory) {

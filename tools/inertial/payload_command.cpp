@@ -73,23 +73,26 @@ int RunPayloadCommand(const PayloadCommand& c) {
   if (status != kOk) return status;
   std::optional<RobotDynamics> model;
   const std::string payload = "payload@" + c.link;
+  // Against the model: the URDF's links (frozen in the fit), every effect the file states
+  // (<inertial_effects>, and bare <dynamics> damping and friction: fitted) and the payload. The
+  // difference: the links (and any rotor or payload the file states, all frozen) and the payload;
+  // the joint effects cancel between the runs.
+  std::vector<EffectSpec> extra;
   if (c.baseline.empty()) {
-    // The model: the URDF's links (frozen in the fit), its effects (fitted) and the payload.
-    std::vector<EffectSpec> effects;
-    status = LoadRobot(c.model, payload, gravity, &robot, &effects, &model);
-  } else {
-    // The difference: links (and any rotors or payloads the file states, all frozen) and the payload; the
-    // joint effects cancel between the runs.
-    std::vector<EffectSpec> bodies;
-    for (const EffectSpec& e : MergeEffects(robot.DeclaredEffects(), ParseEffectList(payload))) {
-      if (!IsJointEffect(e.kind)) bodies.push_back(e);
+    for (const ModelEffect& m : robot.effects) {
+      if (IsJointEffect(m.spec.kind)) extra.push_back(m.spec);
     }
-    try {
-      model.emplace(MakeRobotDynamics(robot, bodies, gravity));
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "Error: " << e.what() << "\n";
-      status = kUsage;
-    }
+  }
+  extra.push_back(ParseEffectList(payload).front());
+  std::vector<EffectSpec> effects;
+  for (const EffectSpec& e : MergeEffects(robot.DeclaredEffects(), extra)) {
+    if (c.baseline.empty() || !IsJointEffect(e.kind)) effects.push_back(e);
+  }
+  try {
+    model.emplace(MakeRobotDynamics(robot, effects, gravity));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    status = kUsage;
   }
   JointSamples with, baseline;
   if (status == kOk) status = ReadRobotLog(c.data, robot, csv, &with);
