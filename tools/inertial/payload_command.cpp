@@ -33,7 +33,7 @@ CLI::App* AddPayloadCommand(CLI::App& app, PayloadCommand* c) {
   sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0")->default_val("0.01");
   sub->add_option("--max-mismatch", c->max_mismatch,
                   "--baseline: the largest RMS position difference between the runs, as a fraction of a joint's range")
-      ->default_val("0.01");
+      ->default_val("0.001");
   sub->add_option("--gravity", c->gravity, "gravity in the base frame [m/s^2]")->default_val("0 0 -9.81");
   sub->add_option("--time-scale", c->time_scale, "multiply the logs' time stamps by this to get seconds");
   sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
