@@ -61,6 +61,7 @@ inline const std::vector<NumericOption>& NumericOptions() {
       {"--min-explained", "FLOAT", "fraction", ""},
       {"--publish-rate", "FLOAT", "Hz", "--config's or 10"},
       {"--checkpoint-interval", "FLOAT", "s", "5"},
+      {"--max-mismatch", "FLOAT", "fraction of the range", "0.001"},
   };
   return table;
 }

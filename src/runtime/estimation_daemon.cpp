@@ -1,6 +1,7 @@
 #include "inertial/runtime/estimation_daemon.hpp"
 
 #include "inertial/report/online_diagnosis_report.hpp"
+#include "inertial/report/payload_report.hpp"
 #include "inertial/runtime/diagnosis_message.hpp"
 
 #include <chrono>
@@ -490,6 +491,10 @@ void EstimationDaemon::Process(Sample* sample) {
         o->kind = Outgoing::kPayloadEvent;
         o->bytes.assign(bytes.begin(), bytes.end());
         o->text = PayloadEventText(*event);
+        // A pick-up as the controllers load it (the formatter of `inertial payload`).
+        if (const std::optional<PayloadValues> p = PayloadValuesOf(*event)) {
+          o->text += "; in " + event->link + "'s frame, URScript " + UrScriptPayload(*p) + ", Franka " + FrankaSetLoad(*p);
+        }
         impl_->outgoing.Commit();
         impl_->publisher_bell.Ring();
       }

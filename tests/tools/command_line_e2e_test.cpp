@@ -70,7 +70,8 @@ TEST(CommandLine, EveryNumericOptionShowsTypeUnitAndDefaultOneWay) {
       "--model", "--data", "--validate", "--effects", "--predictions", "--write-urdf", "--report", "--out",
       "--write-log", "--log-channel", "--write-candump", "--can-config", "--truth", "--truth-urdf", "--repair",
       "--log", "--candump", "--channel", "--config", "--estimator", "--from", "--to", "--state", "--lcm-url",
-      "--estimate-channel", "--residual-channel", "--checkpoint", "--can", "--log-level", "--format", "--urdf"};
+      "--estimate-channel", "--residual-channel", "--checkpoint", "--can", "--log-level", "--format", "--urdf",
+      "--baseline", "--link"};
   const std::regex line(R"(^  (--[a-z-]+) ([A-Z0-9][A-Z0-9 ]*?)( \[[^\]]+\])?(=.*?)?(\s{2,}.*)?$)");
   const std::regex numeric_type(R"(^(INT|FLOAT|FLOATS|\d+ FLOATS)$)");
   int numeric = 0;
@@ -94,7 +95,8 @@ TEST(CommandLine, EveryNumericOptionShowsTypeUnitAndDefaultOneWay) {
   const char* daemon = std::getenv("INERTIALD");
   ASSERT_NE(cli, nullptr);
   ASSERT_NE(daemon, nullptr);
-  for (const char* sub : {"study", "convert", "identify", "check", "simulate", "replay", "diagnose", "export", "validate"}) {
+  for (const char* sub : {"study", "convert", "identify", "check", "simulate", "replay", "diagnose", "export", "validate",
+                          "payload"}) {
     check(cli, {sub, "--help"});
   }
   check(daemon, {"--help"});

@@ -114,4 +114,14 @@ struct ValidateCommand {
 CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* command);
 int RunValidateCommand(const ValidateCommand& command);
 
+struct PayloadCommand {
+  std::string model, data, baseline, link, time_scale;
+  std::string prior_weight = "0.01";
+  std::string max_mismatch = "0.001";
+  std::string gravity = "0 0 -9.81";
+  bool json = false;
+};
+CLI::App* AddPayloadCommand(CLI::App& app, PayloadCommand* command);
+int RunPayloadCommand(const PayloadCommand& command);
+
 }  // namespace inertial::cli

@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   CLI::App* export_app = AddExportCommand(app, &export_command);
   ValidateCommand validate;
   CLI::App* validate_app = AddValidateCommand(app, &validate);
+  PayloadCommand payload;
+  CLI::App* payload_app = AddPayloadCommand(app, &payload);
   DescribeNumericOptions(app);
   if (const std::optional<int> done = ParseCommandLine(app, argc, argv, kUsage)) return *done;
   try {
@@ -46,6 +48,7 @@ int main(int argc, char** argv) {
     if (replay_app->parsed()) return RunReplayCommand(replay);
     if (validate_app->parsed()) return RunValidateCommand(validate);
     if (export_app->parsed()) return RunExportCommand(export_command);
+    if (payload_app->parsed()) return RunPayloadCommand(payload);
   } catch (const std::exception& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return kInternalError;

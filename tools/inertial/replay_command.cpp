@@ -11,6 +11,7 @@
 #include "inertial/report/identification_report.hpp"
 #include "inertial/report/online_diagnosis_report.hpp"
 #include "inertial/report/online_estimate_text.hpp"
+#include "inertial/report/payload_report.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/runtime/log_replay.hpp"
 #include "inertial/runtime/replay_config.hpp"
@@ -237,6 +238,11 @@ nlohmann::json PayloadEventsJson(const std::vector<PayloadEvent>& events) {
                            {"com", {e.com[0], e.com[1], e.com[2]}},
                            {"com_std", {e.com_std[0], e.com_std[1], e.com_std[2]}},
                            {"text", PayloadEventText(e)}});
+    // A pick-up as the controllers load it (payload_report.hpp), in the event link's frame.
+    if (const std::optional<PayloadValues> p = PayloadValuesOf(e)) {
+      events_json.back()["ur_script"] = UrScriptPayload(*p);
+      events_json.back()["franka"] = FrankaSetLoad(*p);
+    }
   }
   return events_json;
 }
@@ -271,7 +277,13 @@ void PrintReplayText(const std::string& path, const ReplayOptions& options, cons
                      const OnlineJointEstimator& estimator) {
   std::cout << ReplaySummaryText(path, options, r);
   std::cout << OnlineEstimateText(estimator);
-  for (const PayloadEvent& e : events) std::cout << PayloadEventText(e) << "\n";
+  for (const PayloadEvent& e : events) {
+    std::cout << PayloadEventText(e) << "\n";
+    if (const std::optional<PayloadValues> p = PayloadValuesOf(e)) {
+      std::cout << "  in " << e.link << "'s frame, URScript: " << UrScriptPayload(*p) << "\n  Franka: " << FrankaSetLoad(*p)
+                << "\n";
+    }
+  }
   if (judged) {
     std::cout << OnlineDiagnosisText(judged->diagnosis);
     if (judged->excitation) std::cout << "Excitation: " << UnexcitedText(*judged->excitation) << "\n";

@@ -1,0 +1,111 @@
+#include "inertial/report/payload_report.hpp"
+
+#include <cmath>
+
+#include "inertial/model/number_text.hpp"
+#include "inertial/report/uncertainty_report.hpp"
+
+namespace inertial {
+namespace {
+
+std::string X(double v) { return FormatNumberExact(v); }
+
+std::string List(std::initializer_list<double> values) {
+  std::string s;
+  for (double v : values) s += (s.empty() ? "" : ", ") + X(v);
+  return s;
+}
+
+nlohmann::json Number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json("inf"); }
+
+}  // namespace
+
+PayloadValues PayloadValuesOf(const InertialParams& payload) {
+  return PayloadValues{payload.mass(), payload.com(), payload.rotational_inertia_about_com()};
+}
+
+std::optional<PayloadValues> PayloadValuesOf(const PayloadEvent& event) {
+  if (!(event.added_mass > 0) || !event.added_pi.allFinite()) return std::nullopt;
+  return PayloadValuesOf(InertialParams::FromVector(event.added_pi));
+}
+
+std::string UrScriptPayload(const PayloadValues& p) {
+  const Matrix3& I = p.inertia_about_com;
+  return "set_target_payload(" + X(p.mass) + ", [" + List({p.com.x(), p.com.y(), p.com.z()}) + "], [" +
+         List({I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)}) + "])";
+}
+
+std::string FrankaSetLoad(const PayloadValues& p) {
+  const Matrix3& I = p.inertia_about_com;
+  // Column-major: column 0 (I00, I10, I20), then columns 1 and 2.
+  return "robot.setLoad(" + X(p.mass) + ", {" + List({p.com.x(), p.com.y(), p.com.z()}) + "}, {" +
+         List({I(0, 0), I(1, 0), I(2, 0), I(0, 1), I(1, 1), I(2, 1), I(0, 2), I(1, 2), I(2, 2)}) + "});";
+}
+
+std::string UrdfPayloadLink(const PayloadValues& p, const std::string& parent_link) {
+  const Matrix3& I = p.inertia_about_com;
+  return "<link name=\"payload\">\n"
+         "  <inertial>\n"
+         "    <origin xyz=\"" + X(p.com.x()) + " " + X(p.com.y()) + " " + X(p.com.z()) + "\" rpy=\"0 0 0\"/>\n"
+         "    <mass value=\"" + X(p.mass) + "\"/>\n"
+         "    <inertia ixx=\"" + X(I(0, 0)) + "\" ixy=\"" + X(I(0, 1)) + "\" ixz=\"" + X(I(0, 2)) + "\" iyy=\"" +
+         X(I(1, 1)) + "\" iyz=\"" + X(I(1, 2)) + "\" izz=\"" + X(I(2, 2)) + "\"/>\n"
+         "  </inertial>\n"
+         "</link>\n"
+         "<joint name=\"payload_joint\" type=\"fixed\">\n"
+         "  <parent link=\"" + parent_link + "\"/>\n"
+         "  <child link=\"payload\"/>\n"
+         "  <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
+         "</joint>\n";
+}
+
+std::string PayloadText(const PayloadIdentification& r) {
+  const PayloadValues p = PayloadValuesOf(r.payload);
+  std::string s = "payload on " + r.link + " (in its frame), ";
+  s += r.from_difference ? "from the difference with the baseline run (" + std::to_string(r.num_samples) +
+                               " paired samples; positions agree to " + FormatNumber(100 * r.position_mismatch, 3) +
+                               " % of the range, worst " + r.mismatch_joint + ")"
+                         : "against the model (" + std::to_string(r.num_samples) + " samples; links held at the URDF)";
+  s += ", RMS torque residual " + FormatNumber(r.residual_rms, 3) + " N m:\n  ";
+  s += BodyUncertaintyText(r.payload, r.uncertainty, &r.held) + "\n";
+  s += "Universal Robots (URScript):\n  " + UrScriptPayload(p) + "\n";
+  s += "Franka (libfranka, C++):\n  " + FrankaSetLoad(p) + "\n";
+  s += "URDF:\n";
+  std::string urdf = UrdfPayloadLink(p, r.link);
+  for (size_t start = 0; start < urdf.size();) {
+    const size_t end = urdf.find('\n', start);
+    s += "  " + urdf.substr(start, end - start + 1);
+    start = end + 1;
+  }
+  return s;
+}
+
+nlohmann::json PayloadJson(const PayloadIdentification& r) {
+  const PayloadValues p = PayloadValuesOf(r.payload);
+  const Matrix3& I = p.inertia_about_com;
+  const Vector6& u = r.uncertainty.inertia_about_com;  // Ixx Iyy Izz Ixy Iyz Ixz
+  nlohmann::json j;
+  j["link"] = r.link;
+  j["mass"] = p.mass;
+  j["mass_std"] = Number(r.uncertainty.mass);
+  j["com"] = {p.com.x(), p.com.y(), p.com.z()};
+  j["com_std"] = {Number(r.uncertainty.com.x()), Number(r.uncertainty.com.y()), Number(r.uncertainty.com.z())};
+  j["inertia_about_com"] = {{"ixx", I(0, 0)}, {"iyy", I(1, 1)}, {"izz", I(2, 2)},
+                            {"ixy", I(0, 1)}, {"ixz", I(0, 2)}, {"iyz", I(1, 2)}};
+  j["inertia_about_com_std"] = {{"ixx", Number(u[0])}, {"iyy", Number(u[1])}, {"izz", Number(u[2])},
+                                {"ixy", Number(u[3])}, {"ixz", Number(u[5])}, {"iyz", Number(u[4])}};
+  j["held_by_prior"] = HeldQuantities(r.held);
+  j["from_difference"] = r.from_difference;
+  if (r.from_difference) {
+    j["position_mismatch"] = r.position_mismatch;
+    j["position_mismatch_joint"] = r.mismatch_joint;
+  }
+  j["num_samples"] = r.num_samples;
+  j["residual_rms"] = r.residual_rms;
+  j["ur_script"] = UrScriptPayload(p);
+  j["franka"] = FrankaSetLoad(p);
+  j["urdf"] = UrdfPayloadLink(p, r.link);
+  return j;
+}
+
+}  // namespace inertial
