@@ -22,7 +22,7 @@
 #include "inertial/residual_t.hpp"
 #include "inertial/runtime/bounded_queue.hpp"
 #include "inertial/runtime/slot_ring.hpp"
-#include "inertial/runtime/stream_gap_counter.hpp"
+#include "inertial/signal/stream_gap_counter.hpp"
 #include "inertial/transport/lcm_log_check.hpp"
 
 namespace inertial {

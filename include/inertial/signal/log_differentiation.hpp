@@ -21,7 +21,7 @@ namespace inertial {
 
 /// A step longer than this many median steps is a gap. Controller logs jitter: the steps of a
 /// 100 Hz arm seen in the field lie within 0.2 and 3.4 median steps, and a gap counter of the
-/// stream (runtime/stream_gap_counter.hpp) already calls 1.5 median steps a lost sample; cutting
+/// stream (signal/stream_gap_counter.hpp) already calls 1.5 median steps a lost sample; cutting
 /// there would cut at every late sample. At 5 median steps at least 4 samples in a row are missing:
 /// a polynomial over the 0.1 s window (10 samples at 100 Hz) would then rest on one side's samples
 /// and extrapolate across the hole, so the piece ends there.

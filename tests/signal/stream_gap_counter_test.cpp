@@ -1,7 +1,7 @@
 // The gap counter of inertiald's receiver against streams whose losses are known: synthetic time
 // stamps at a rate the counter is not told, with samples removed at chosen places (singles,
 // bursts, one long pause) and jitter on every time stamp; the reference is the list removed.
-#include "inertial/runtime/stream_gap_counter.hpp"
+#include "inertial/signal/stream_gap_counter.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "inertial/runtime/stream_gap_counter.hpp"
+#include "inertial/signal/stream_gap_counter.hpp"
 
 #include <algorithm>
 #include <cmath>
