@@ -20,9 +20,9 @@ Rejection StreamPreprocessor::Process(JointSample* s, std::string* why) {
   }
   started_ = true;
   last_t_ = s->t;
-  const double median = steps_.median_interval();
-  steps_.Observe(s->t);
   if (s->has_qdd) return Rejection::kNone;
+  const double median = steps_.median_interval();  // of the samples whose qdd is derived
+  steps_.Observe(s->t);
   const double step = s->t - acceleration_.last_time();
   if (acceleration_.primed() && median > 0.0 && step > kGapMedianSteps * median) {
     acceleration_ = CausalAcceleration(num_joints_, cutoff_hz_);  // not differentiated across the gap
