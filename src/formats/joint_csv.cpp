@@ -1,4 +1,5 @@
 #include "inertial/formats/joint_csv.hpp"
+#include "inertial/signal/robust_statistics.hpp"
 
 #include "inertial/signal/log_differentiation.hpp"
 #include "inertial/signal/sample_selection.hpp"
@@ -43,17 +44,6 @@ constexpr double kSmallestStep = 1e-5;      // s: 100 kHz
 constexpr double kLargestStep = 1.0;        // s: 1 Hz
 constexpr double kPlausibleSmallest = 1e-4;  // s: 10 kHz
 constexpr double kPlausibleLargest = 1e-1;   // s: 10 Hz
-
-/// Median of the steps of t (at least 2 stamps).
-double MedianStep(const Eigen::Ref<const Eigen::VectorXd>& t) {
-  std::vector<double> steps(static_cast<std::size_t>(t.size() - 1));
-  for (Eigen::Index i = 0; i + 1 < t.size(); ++i) steps[static_cast<std::size_t>(i)] = t[i + 1] - t[i];
-  const std::size_t half = steps.size() / 2;
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(half), steps.end());
-  const double upper = steps[half];
-  if (steps.size() % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(half)));
-}
 
 /// "if they are milliseconds, give --time-scale 1e-3 (a median step of 0.001 s)", or a general hint.
 std::string TimeScaleSuggestion(double median_step) {

@@ -1,4 +1,5 @@
 #include "inertial/signal/log_differentiation.hpp"
+#include "inertial/signal/robust_statistics.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -9,13 +10,6 @@
 
 namespace inertial {
 namespace {
-
-double MedianStep(const Eigen::VectorXd& t) {
-  std::vector<double> steps(static_cast<size_t>(t.size() - 1));
-  for (Eigen::Index i = 1; i < t.size(); ++i) steps[static_cast<size_t>(i - 1)] = t[i] - t[i - 1];
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
-}
 
 std::string What(bool velocities, bool accelerations) {
   return velocities && accelerations ? "velocities and accelerations" : velocities ? "velocities" : "accelerations";

@@ -1,4 +1,5 @@
 #include "inertial/signal/recorded_runs.hpp"
+#include "inertial/signal/robust_statistics.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -7,14 +8,6 @@
 
 namespace inertial {
 namespace {
-
-double MedianStep(const Eigen::VectorXd& t) {
-  if (t.size() < 2) return 0.0;
-  std::vector<double> steps(static_cast<size_t>(t.size() - 1));
-  for (Eigen::Index i = 1; i < t.size(); ++i) steps[static_cast<size_t>(i - 1)] = t[i] - t[i - 1];
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
-}
 
 // Appends rows of `run` (shifted by `shift`) to *out, which has `rows` filled.
 void Append(const JointSamples& run, double shift, int rows, JointSamples* out) {
@@ -59,7 +52,7 @@ RecordedRuns JoinRuns(const std::vector<std::string>& names, const std::vector<J
   for (size_t k = 0; k < runs.size(); ++k) {
     const JointSamples& run = runs[k];
     const double shift =
-        k == 0 ? 0.0 : end + std::max(kRunSeparation, 10.0 * MedianStep(runs[k - 1].t)) - run.t[0];
+        k == 0 ? 0.0 : end + std::max(kRunSeparation, runs[k - 1].size() > 1 ? 10.0 * MedianStep(runs[k - 1].t) : 0.0) - run.t[0];
     out.starts.push_back(rows);
     out.shifts.push_back(shift);
     Append(run, shift, rows, &s);

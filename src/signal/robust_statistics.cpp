@@ -12,6 +12,13 @@ constexpr double kExpectedFalseRejections = 0.01;  // good residuals wrongly rej
 
 }  // namespace
 
+double MedianStep(const Eigen::Ref<const Eigen::VectorXd>& t) {
+  if (t.size() < 2) throw std::invalid_argument("MedianStep: fewer than 2 time stamps");
+  std::vector<double> steps(static_cast<std::size_t>(t.size() - 1));
+  for (Eigen::Index i = 0; i + 1 < t.size(); ++i) steps[static_cast<std::size_t>(i)] = t[i + 1] - t[i];
+  return Median(steps);
+}
+
 double Median(std::vector<double>& v) {
   if (v.empty()) throw std::invalid_argument("Median: no values");
   const std::size_t half = v.size() / 2;

@@ -23,6 +23,16 @@ TEST(RobustStatistics, MedianAndMadOfKnownSets) {
   EXPECT_THROW(Median(none), std::invalid_argument);
 }
 
+TEST(RobustStatistics, MedianStepByHand) {
+  Eigen::VectorXd t(5);
+  t << 0.0, 0.01, 0.02, 0.5, 0.51;  // steps 0.01, 0.01, 0.48, 0.01
+  EXPECT_DOUBLE_EQ(MedianStep(t), 0.01);
+  Eigen::VectorXd even(3);
+  even << 0.0, 1.0, 4.0;  // steps 1 and 3: their mean
+  EXPECT_DOUBLE_EQ(MedianStep(even), 2.0);
+  EXPECT_THROW(MedianStep(Eigen::VectorXd::Zero(1)), std::invalid_argument);
+}
+
 TEST(RobustStatistics, OneWildValueMovesNeither) {
   std::vector<double> v{1, 2, 3, 4, 5, 6, 1e300};
   const auto [median, mad] = MedianAndMad(v);

@@ -4,6 +4,8 @@
 /// deviation (1 / Phi^-1(3/4) = 1.4826).
 #pragma once
 
+#include <Eigen/Core>
+
 #include <utility>
 #include <vector>
 
@@ -14,6 +16,10 @@ inline constexpr double kMadToSigma = 1.4826;
 /// Median of v (v is reordered); the mean of the two middle values for an even count, computed
 /// without overflow for huge values of opposite sign. @throws std::invalid_argument if v is empty.
 double Median(std::vector<double>& v);
+
+/// Median of the steps t[i + 1] - t[i] of time stamps (at least 2). @throws std::invalid_argument
+/// with fewer.
+double MedianStep(const Eigen::Ref<const Eigen::VectorXd>& t);
 
 /// {median, MAD} of v (v is overwritten with the absolute deviations). @throws as Median.
 std::pair<double, double> MedianAndMad(std::vector<double>& v);
