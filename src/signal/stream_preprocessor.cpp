@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include "inertial/signal/log_differentiation.hpp"
-
 namespace inertial {
 
 StreamPreprocessor::StreamPreprocessor(int num_joints, double accel_cutoff_hz)
@@ -21,15 +19,6 @@ Rejection StreamPreprocessor::Process(JointSample* s, std::string* why) {
   started_ = true;
   last_t_ = s->t;
   if (s->has_qdd) return Rejection::kNone;
-  const double median = steps_.median_interval();  // of the samples whose qdd is derived
-  steps_.Observe(s->t);
-  const double step = s->t - acceleration_.last_time();
-  if (acceleration_.primed() && median > 0.0 && step > kGapMedianSteps * median) {
-    acceleration_ = CausalAcceleration(num_joints_, cutoff_hz_);  // not differentiated across the gap
-    acceleration_.Update(s->t, s->qd, &s->qdd);
-    if (why) *why = "a gap in the stream: the acceleration filter starts again here";
-    return Rejection::kPriming;
-  }
   if (!acceleration_.Update(s->t, s->qd, &s->qdd)) {
     if (why) *why = "the first sample primes the acceleration filter";
     return Rejection::kPriming;

@@ -42,32 +42,6 @@ TEST(StreamPreprocessor, DerivesMissingAccelerationsByTheLowPassedDifference) {
   EXPECT_NEAR(s.qdd[1], alpha * 1.5 / dt, 1e-12);
 }
 
-// A stream at 100 Hz with late samples (3.4 steps: jitter, differentiated as usual) and a 0.5 s
-// pause (50 steps): after the pause the filter starts again, so the sample after it only primes and
-// the next one's qdd is a fresh filter's, bit for bit.
-TEST(StreamPreprocessor, AGapIsNotDifferentiatedAcross) {
-  const double fc = 30.0;
-  StreamPreprocessor p(2, fc);
-  double t = 0.0;
-  auto qd = [](double time) { return Eigen::Vector2d(std::sin(3 * time), std::cos(2 * time)); };
-  for (int i = 0; i < 40; ++i, t += (i % 10 == 5 ? 0.034 : 0.01)) {
-    JointSample s = Make(t, qd(t), false);
-    EXPECT_EQ(p.Process(&s), i == 0 ? Rejection::kPriming : Rejection::kNone) << i;
-  }
-  t += 0.5;
-  JointSample after = Make(t, qd(t), false);
-  std::string why;
-  EXPECT_EQ(p.Process(&after, &why), Rejection::kPriming);
-  EXPECT_NE(why.find("a gap in the stream"), std::string::npos) << why;
-  JointSample next = Make(t + 0.01, qd(t + 0.01), false);
-  ASSERT_EQ(p.Process(&next), Rejection::kNone);
-  CausalAcceleration fresh(2, fc);
-  Eigen::VectorXd qdd(2);
-  fresh.Update(t, Eigen::VectorXd(qd(t)), &qdd);
-  fresh.Update(t + 0.01, Eigen::VectorXd(qd(t + 0.01)), &qdd);
-  EXPECT_EQ(next.qdd, qdd);
-}
-
 TEST(StreamPreprocessor, RefusesTimeThatDoesNotAdvanceAndWrongSizes) {
   StreamPreprocessor p(2, 20.0);
   JointSample s = Make(2.0, Eigen::Vector2d(0, 0), true);

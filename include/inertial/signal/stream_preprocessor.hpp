@@ -6,18 +6,12 @@
 /// qdd passes unchanged. Time order is enforced first, because the filter differences in time.
 /// Allocation-free after the first sample; never throws.
 ///
-/// A gap in the stream (a step longer than kGapMedianSteps times the median of the recent steps,
-/// stream_gap_counter.hpp's estimate: a paused logger, a dropped link) is not differentiated across:
-/// the filter starts again, the sample after the gap only primes it (as log_differentiation.hpp
-/// cuts a log there).
-///
 /// Offline logs are differentiated as a whole instead (Savitzky-Golay, log_differentiation.hpp).
 #pragma once
 
 #include <string>
 
 #include "inertial/signal/causal_acceleration.hpp"
-#include "inertial/signal/stream_gap_counter.hpp"
 #include "inertial/model/joint_samples.hpp"
 #include "inertial/signal/rejection.hpp"
 
@@ -32,7 +26,7 @@ class StreamPreprocessor {
   /// *why (optional) says why: kOutOfOrder (t not after the previous sample's), kPriming (the
   /// first sample without qdd only primes the filter), kNonFinite (the derived qdd overflowed:
   /// qd jumped too far in too short a time; the filter starts again at the next sample),
-  /// kWrongSize (not num_joints values); kPriming also for the first sample without qdd after a gap.
+  /// kWrongSize (not num_joints values).
   Rejection Process(JointSample* sample, std::string* why = nullptr);
 
   double accel_cutoff_hz() const { return cutoff_hz_; }
@@ -43,7 +37,6 @@ class StreamPreprocessor {
   bool started_ = false;
   double last_t_ = 0.0;
   CausalAcceleration acceleration_;
-  StreamGapCounter steps_;  ///< the median step, for gaps
 };
 
 }  // namespace inertial
