@@ -108,6 +108,7 @@ void WriteModelUrdf(const std::string& urdf_path, const std::string& out_path, c
   UrdfModelChanges changes;
   changes.origin = origin;
   changes.effects = EffectsOf(model, snapshot);
+  changes.effects->insert(changes.effects->end(), snapshot.measurement.begin(), snapshot.measurement.end());
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const EstimatedBody& body = model.bodies()[e];
     if (IsLinkBody(robot, body) && snapshot.bodies[e]) changes.inertias[body.name] = *snapshot.bodies[e];
@@ -118,6 +119,26 @@ void WriteModelUrdf(const std::string& urdf_path, const std::string& out_path, c
   }
   changes.notes = snapshot.notes;
   WriteUrdfModel(urdf_path, out_path, changes);
+}
+
+Eigen::VectorXd StatedLogGains(const RobotModel& robot, const std::vector<ModelEffect>& effects) {
+  Eigen::VectorXd g = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(robot.dof_names.size()));
+  bool any = false;
+  for (const ModelEffect& m : effects) {
+    if (m.spec.kind != EffectKind::kGain || m.values.size() != 1) continue;
+    const int d = robot.DofIndex(m.spec.target);
+    if (d >= 0) g[d] = m.values[0];
+    any = any || d >= 0;
+  }
+  return any ? g : Eigen::VectorXd();
+}
+
+std::vector<ModelEffect> MeasurementEffects(const std::vector<ModelEffect>& effects) {
+  std::vector<ModelEffect> out;
+  for (const ModelEffect& m : effects) {
+    if (IsMeasurementEffect(m.spec.kind)) out.push_back(m);
+  }
+  return out;
 }
 
 std::vector<EffectSpec> MergeEffects(const std::vector<EffectSpec>& from_file, const std::vector<EffectSpec>& extra) {

@@ -175,7 +175,7 @@ ModelEffect ReadEffectElement(const tinyxml2::XMLElement& element, const std::st
   const std::string where = source + ": <" + std::string(kEffectsElement) + ">: " + ElementText(*e);
   if (!known) {
     throw UrdfError(where +
-                    " is not an effect (viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, rotor, payload)");
+                    " is not an effect (viscous, coulomb, asymmetric, sigmoid, offset, armature, spring, rotor, payload, gain)");
   }
   // Nothing unknown is silently ignored: every attribute and child must be the kind's own.
   static const std::map<EffectKind, std::set<std::string>> kAttributes = {
@@ -187,7 +187,8 @@ ModelEffect ReadEffectElement(const tinyxml2::XMLElement& element, const std::st
       {EffectKind::kArmature, {"joint", "inertia"}},
       {EffectKind::kSpring, {"joint", "stiffness", "rest_position"}},
       {EffectKind::kRotor, {"joint", "gear_ratio"}},
-      {EffectKind::kPayload, {"link"}}};
+      {EffectKind::kPayload, {"link"}},
+      {EffectKind::kGain, {"joint", "value"}}};
   for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
     if (kAttributes.at(m.spec.kind).count(a->Name()) == 0) {
       throw UrdfError(where + " has an unknown attribute '" + std::string(a->Name()) + "'");
@@ -256,6 +257,10 @@ void ReadEffectValues(const tinyxml2::XMLElement& element, const std::string& wh
     case EffectKind::kOffset: m.values = {Attribute(*e, "torque", where)}; break;
     case EffectKind::kArmature: m.values = {non_negative("inertia")}; break;
     case EffectKind::kSpring: m.values = {non_negative("stiffness"), Attribute(*e, "rest_position", where)}; break;
+    case EffectKind::kGain:
+      m.values = {Attribute(*e, "value", where)};
+      if (!(m.values[0] > 0)) throw UrdfError(where + ": attribute 'value' (the log's unit per N m) must be > 0");
+      break;
     case EffectKind::kRotor:
     case EffectKind::kPayload: {
       if (m.spec.kind == EffectKind::kRotor) {
@@ -386,6 +391,7 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
         e->SetAttribute("stiffness", FormatNumber(m.values.at(0), kRoundTripDigits).c_str());
         e->SetAttribute("rest_position", FormatNumber(m.values.at(1), kRoundTripDigits).c_str());
         break;
+      case EffectKind::kGain: e->SetAttribute("value", FormatNumber(m.values.at(0), kRoundTripDigits).c_str()); break;
       case EffectKind::kRotor:
       case EffectKind::kPayload: {
         if (m.spec.kind == EffectKind::kRotor) e->SetAttribute("gear_ratio", FormatNumber(m.spec.gear_ratio, kRoundTripDigits).c_str());

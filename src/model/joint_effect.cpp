@@ -55,6 +55,7 @@ std::string_view ToString(EffectKind kind) {
     case EffectKind::kRotor: return "rotor";
     case EffectKind::kAsymmetric: return "asymmetric";
     case EffectKind::kSigmoid: return "sigmoid";
+    case EffectKind::kGain: return "gain";
   }
   return "unknown";
 }
@@ -67,11 +68,14 @@ int NumEffectValues(EffectKind kind) {
 const std::vector<EffectKind>& AllEffectKinds() {
   static const std::vector<EffectKind> kinds{EffectKind::kViscous, EffectKind::kCoulomb,    EffectKind::kOffset,
                                              EffectKind::kArmature, EffectKind::kSpring,    EffectKind::kPayload,
-                                             EffectKind::kRotor,    EffectKind::kAsymmetric, EffectKind::kSigmoid};
+                                             EffectKind::kRotor,    EffectKind::kAsymmetric, EffectKind::kSigmoid,
+                                             EffectKind::kGain};
   return kinds;
 }
 
 bool IsJointEffect(EffectKind kind) { return kind != EffectKind::kPayload && kind != EffectKind::kRotor; }
+
+bool IsMeasurementEffect(EffectKind kind) { return kind == EffectKind::kGain; }
 
 std::string EffectItem(const EffectSpec& spec) {
   std::string item = std::string(ToString(spec.kind)) + (spec.target.empty() ? "" : "@" + spec.target);
@@ -95,6 +99,7 @@ std::vector<std::string> EffectValueNames(EffectKind kind) {
     case EffectKind::kSpring: return {"k", "q0"};
     case EffectKind::kAsymmetric: return {"bp", "bn"};
     case EffectKind::kSigmoid: return {"p1"};
+    case EffectKind::kGain: return {"g"};
     default: return {};
   }
 }

@@ -111,6 +111,10 @@ void AddJointEffects(const std::vector<EffectSpec>& effects, const std::vector<s
   std::set<std::pair<int, int>> seen;
   for (const EffectSpec& e : effects) {
     if (!IsJointEffect(e.kind)) continue;
+    if (IsMeasurementEffect(e.kind)) {  // of the log, not of the dynamics: no term (its joint checked)
+      if (!e.target.empty()) DofOf(dof_names, e);
+      continue;
+    }
     std::vector<int> dofs;
     if (e.target.empty()) {
       for (int j = 0; j < num_dofs; ++j) dofs.push_back(j);

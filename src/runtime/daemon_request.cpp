@@ -77,6 +77,7 @@ void WriteModelOnRequest(const DaemonRequest& r, RobotModel robot, EstimationDae
       [shared, model_path = r.model_path, out = r.write_urdf](const OnlineJointEstimator& estimator) {
         // Under the estimator's lock: the snapshot. After it (the writer thread): the file.
         ModelSnapshot snapshot = SnapshotWithUncertainty(estimator);
+        snapshot.measurement = MeasurementEffects(shared->effects);  // the gains it read the log with
         std::string description = "the online estimate of inertiald (" +
                                   std::to_string(estimator.estimator().counters().accepted()) + " samples)";
         const RobotDynamics* dynamics = &estimator.model();  // fixed for the daemon's life
@@ -101,6 +102,7 @@ CanConfig LoadMotors(const std::string& path) {
 std::unique_ptr<EstimationDaemon> MakeRobotDaemon(const DaemonRequest& r, DaemonOptions options,
                                                   std::atomic<bool>* write_request) {
   RobotModel robot = LoadUrdf(r.model_path);
+  options.log_gains = StatedLogGains(robot, robot.effects);  // a log of currents, in N m first
   auto model = [&] { return MakeRobotDynamics(robot, MergeEffects(robot.DeclaredEffects(), ParseEffectList(r.effects))); };
   std::unique_ptr<EstimationDaemon> daemon;
   if (r.can_interface.empty()) {

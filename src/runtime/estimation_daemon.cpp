@@ -227,6 +227,7 @@ EstimationDaemon::EstimationDaemon(DaemonOptions options, SampleDecoder decoder,
   const double cutoff = decoder.accel_cutoff_hz();
   pipeline_ = robot_ ? std::make_unique<SamplePipeline>(robot_.get(), cutoff, options_.residual_window_s)
                      : std::make_unique<SamplePipeline>(body_.get(), options_.residual_window_s);
+  if (robot_) pipeline_->SetLogGains(options_.log_gains);
   const Sample prototype = robot_ ? Sample::ForJoints(robot_->model().num_dofs()) : Sample{};
   const bool can = decoder.can_mode();
   const std::vector<CanId> ids = decoder.can_ids();

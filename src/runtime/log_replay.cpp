@@ -174,6 +174,7 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
     if (!in) throw std::runtime_error(CannotText("read", "candump log", path));
     SampleDecoder decoder = SampleDecoder::CanFrames(*options.can, model.dof_names());
     SamplePipeline pipeline(estimator, decoder.accel_cutoff_hz(), options.residual_window_s);
+    pipeline.SetLogGains(options.log_gains);
     Replayer replayer(&pipeline, options, on_sample);
     std::string line, iface;
     CanFrame frame;
@@ -195,6 +196,7 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
     // A file's samples are decoded already; the CSV source counts each row as received and given.
     const JointSamples log = ReadJointLog(path, model.dof_names(), options.csv);
     SamplePipeline pipeline(estimator, options.format.accel_cutoff_hz, options.residual_window_s);
+    pipeline.SetLogGains(options.log_gains);
     Replayer replayer(&pipeline, options, on_sample);
     SampleCounters rows;
     for (int i = 0; i < log.size(); ++i) {
@@ -208,6 +210,7 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
   } else {
     SampleDecoder decoder = SampleDecoder::JointMessages(options.format, model.dof_names());
     SamplePipeline pipeline(estimator, decoder.accel_cutoff_hz(), options.residual_window_s);
+    pipeline.SetLogGains(options.log_gains);
     Replayer replayer(&pipeline, options, on_sample);
     ReplayLcmLog(path, &decoder, &replayer, &sample, options, &result);
     replayer.Finish(&result, decoder.counters());

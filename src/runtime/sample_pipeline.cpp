@@ -33,6 +33,17 @@ SamplePipeline::SamplePipeline(OnlineBodyEstimator* estimator, double residual_w
 const RecursiveEstimator& SamplePipeline::estimator() const { return body_ ? body_->estimator() : robot_->estimator(); }
 RecursiveEstimator& SamplePipeline::estimator() { return body_ ? body_->estimator() : robot_->estimator(); }
 
+void SamplePipeline::SetLogGains(const Eigen::VectorXd& gains) {
+  if (gains.size() == 0) {
+    log_gains_.resize(0);
+    return;
+  }
+  if (robot_ == nullptr || gains.size() != robot_->model().num_dofs() || !gains.allFinite() || !(gains.minCoeff() > 0.0)) {
+    throw std::invalid_argument("sample pipeline: the log's gains must be one positive number per joint");
+  }
+  log_gains_ = gains;
+}
+
 SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
   ++counters_.received;
   Outcome out;
@@ -48,6 +59,9 @@ SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
     out.status = body_->Update(b);
     Account(out.status, b.t);
     return out;
+  }
+  if (log_gains_.size() != 0 && sample->joint.tau.size() == log_gains_.size()) {
+    sample->joint.tau.array() /= log_gains_.array();  // the log's unit to N m (in place: no allocation)
   }
   out.rejection = preprocessor_.Process(&sample->joint);
   if (out.rejection != Rejection::kNone) {

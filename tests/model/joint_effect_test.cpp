@@ -54,8 +54,12 @@ TEST(EffectList, KindNamesAndValueCounts) {
   std::set<std::string> names;
   for (EffectKind k : AllEffectKinds()) names.insert(std::string(ToString(k)));
   EXPECT_EQ(names, (std::set<std::string>{"viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor",
-                                          "asymmetric", "sigmoid"}));
+                                          "asymmetric", "sigmoid", "gain"}));
   EXPECT_TRUE(IsJointEffect(EffectKind::kSigmoid));
+  EXPECT_TRUE(IsJointEffect(EffectKind::kGain));
+  EXPECT_TRUE(IsMeasurementEffect(EffectKind::kGain));
+  EXPECT_FALSE(IsMeasurementEffect(EffectKind::kViscous));
+  EXPECT_EQ(EffectValueNames(EffectKind::kGain), std::vector<std::string>{"g"});
   EXPECT_FALSE(IsJointEffect(EffectKind::kPayload));
   EXPECT_FALSE(IsJointEffect(EffectKind::kRotor));
   EXPECT_EQ(NumEffectValues(EffectKind::kSpring), 2);

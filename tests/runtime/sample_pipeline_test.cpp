@@ -85,6 +85,32 @@ TEST(SamplePipeline, IsThePreprocessorThenTheEstimator) {
 }
 
 // A body's residual is the prediction error of the estimate before the sample.
+// A log of motor currents (every joint's torque times its gain, 8 to 15) with the gains set ends
+// where the torques themselves do: the pipeline divides before anything else.
+TEST(SamplePipeline, ALogWithGainsIsReadInNewtonMetres) {
+  const RobotDynamics model = MakeRobotDynamics(LoadUrdf(testing::Example("leg3.urdf")), {});
+  const JointSamples log = testing::SimulateLogs(model, testing::TrueParameters(model, {0.0}, 6), 0.3, 4.0, 13, 250).train;
+  const int n = model.num_dofs(), P = model.num_parameters();
+  const Eigen::Vector3d gains(8.0, 11.5, 15.0);
+  OnlineJointEstimator torques(model, Eigen::VectorXd::Zero(P), Options());
+  OnlineJointEstimator currents(model, Eigen::VectorXd::Zero(P), Options());
+  SamplePipeline a(&torques, 25.0, 0.5), b(&currents, 25.0, 0.5);
+  b.SetLogGains(gains);
+  EXPECT_THROW(b.SetLogGains(Eigen::Vector2d(1.0, 2.0)), std::invalid_argument);
+  EXPECT_THROW(b.SetLogGains(Eigen::Vector3d(1.0, 0.0, 2.0)), std::invalid_argument);
+  Sample s = Sample::ForJoints(n), c = Sample::ForJoints(n);
+  for (int i = 0; i < log.size(); ++i) {
+    CopySample(log, i, &s.joint);
+    CopySample(log, i, &c.joint);
+    c.joint.tau = c.joint.tau.cwiseProduct(gains);
+    a.Process(&s);
+    b.Process(&c);
+  }
+  const Eigen::VectorXd& xa = torques.estimator().parameters();
+  EXPECT_LT((currents.estimator().parameters() - xa).norm(), 1e-9 * (1.0 + xa.norm()));
+  EXPECT_EQ(currents.estimator().counters().accepted(), torques.estimator().counters().accepted());
+}
+
 TEST(SamplePipeline, ABodysResidualIsThePredictionBeforeTheUpdate) {
   const InertialParams prior = InertialParams::FromMassComInertia(1.0, Vector3::Zero(), 0.02 * Matrix3::Identity());
   OnlineEstimatorOptions o;

@@ -279,7 +279,9 @@ int ReadRobotLogs(const DiagnoseCommand& c, const RobotModel& robot, const Vecto
   std::vector<RunPayload> payloads;
   int status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
   RecordedRuns all;
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &all);
+  LogGains log_gains;  // a model file's stated gains: the log in N m first
+  log_gains.known_gains = StatedLogGains(robot, robot.effects);
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &all, nullptr, log_gains);
   const std::string data = RunsName(c.data);
   if (status == kOk && !c.validate.empty()) {
     status = ReadRobotLog(c.validate, robot, csv, validation);
@@ -322,6 +324,12 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   std::optional<RobotDynamics> model;
   if (status == kOk) status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
   if (status != kOk) return status;
+  for (const EffectSpec& e : ParseEffectList(c.effects)) {
+    if (e.kind != EffectKind::kGain) continue;
+    std::cerr << "Error: --effects " << e.text << ": diagnose takes the log in N m; fit the gains first (identify "
+              << "--effects gain ... --write-urdf model.urdf), and diagnose --model model.urdf reads the log with them\n";
+    return kUsage;
+  }
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
     return MakeRobotDynamics(robot, e, gravity);
   };

@@ -1,4 +1,5 @@
 // `inertial identify`: batch identification of a URDF robot from joint logs (eq. 14).
+#include <algorithm>
 #include <iostream>
 #include <optional>
 
@@ -13,6 +14,8 @@
 #include "inertial/report/fit_failure_text.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/report/run_errors_report.hpp"
+#include "inertial/estimation/batch/gain_identification.hpp"
+#include "inertial/model/number_text.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
 
@@ -109,12 +112,13 @@ int Fit(const std::string& data, const RobotDynamics& model, const JointSamples&
 // (model_file.hpp), so that `validate --model` of it predicts what the fit predicts. kOk, or the
 // exit code (the error printed).
 int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotDynamics& model,
-                 const IdentificationRun& run, const JointSamples& predicted) {
+                 const IdentificationRun& run, const JointSamples& predicted, const std::vector<ModelEffect>& gains) {
   try {
     if (!c.predictions.empty()) WriteTorquePredictions(c.predictions, model, run.fit.x, predicted);
     if (c.write_urdf.empty()) return kOk;
     ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
     if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
+    snapshot.measurement = gains;
     WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + RunsName(c.data));
     std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()
               << " joint effect terms\n";
@@ -126,6 +130,69 @@ int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotD
     return kIoError;
   }
   return kOk;
+}
+
+// The DOFs whose log is to be scaled by a fitted gain (gain@joint among the effects), ascending.
+std::vector<int> GainDofs(const RobotModel& robot, const std::vector<EffectSpec>& effects) {
+  std::vector<int> dofs;
+  for (const EffectSpec& e : effects) {
+    if (e.kind != EffectKind::kGain) continue;
+    for (int d = 0; d < static_cast<int>(robot.dof_names.size()); ++d) {
+      if ((e.target.empty() || robot.dof_names[static_cast<size_t>(d)] == e.target) &&
+          std::find(dofs.begin(), dofs.end(), d) == dofs.end()) {
+        dofs.push_back(d);
+      }
+    }
+  }
+  std::sort(dofs.begin(), dofs.end());
+  return dofs;
+}
+
+// gain@joint (gain_identification.hpp): the gains fitted with the links, then every gain joint's
+// log turned into N m (train: minus what known payloads add; validation: the log alone), so that the
+// identification below fits torques. kOk, or the exit code (the error printed).
+int FitGains(const RobotDynamics& model, const JointIdentificationOptions& options, const std::vector<int>& dofs,
+             const Eigen::MatrixXd& known, JointSamples* train, JointSamples* validation, GainIdentificationResult* gains) {
+  if (const std::optional<std::string> why = GainScaleProblem(model, known, dofs, options.frozen_bodies)) {
+    std::cerr << "Error: gain@: " << *why << "\n";
+    return kUsage;
+  }
+  try {
+    *gains = IdentifyWithGains(model, AccumulateGainProblem(model, *train, known, dofs), options);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: " << e.what() << "\n";
+    return kInvalidValue;
+  }
+  for (size_t g = 0; g < dofs.size(); ++g) {
+    const int d = dofs[g];
+    const double gain = gains->gains[static_cast<Eigen::Index>(g)];
+    train->tau.col(d) = train->tau.col(d) / gain - known.col(d);
+    if (validation->size() > 0) validation->tau.col(d) /= gain;
+  }
+  return kOk;
+}
+
+// "Gains of the logged torques (log unit per N m, fitted with the links): knee 12.01 +- 0.02, ...".
+std::string GainsText(const RobotDynamics& model, const std::vector<int>& dofs, const GainIdentificationResult& g) {
+  std::string text = "Gains of the logged torque columns (log unit per N m, fitted with the links):";
+  for (size_t k = 0; k < dofs.size(); ++k) {
+    text += (k == 0 ? " " : ", ") + model.dof_names()[static_cast<size_t>(dofs[k])] + " " +
+            FormatNumber(g.gains[static_cast<Eigen::Index>(k)], 6);
+  }
+  return text + "\n";
+}
+
+std::vector<ModelEffect> GainEffects(const RobotDynamics& model, const std::vector<int>& dofs, const GainIdentificationResult& g) {
+  std::vector<ModelEffect> out;
+  for (size_t k = 0; k < dofs.size(); ++k) {
+    ModelEffect m;
+    m.spec.kind = EffectKind::kGain;
+    m.spec.target = model.dof_names()[static_cast<size_t>(dofs[k])];
+    m.spec.text = "gain@" + m.spec.target;
+    m.values = {g.gains[static_cast<Eigen::Index>(k)]};
+    out.push_back(m);
+  }
+  return out;
 }
 
 }  // namespace
@@ -149,8 +216,17 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   RecordedRuns runs;
   JointSamples validation;
   std::vector<int> train_lines;
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, &train_lines);
+  Eigen::MatrixXd known;  // known payloads' torques on the joints whose gain is fitted
+  LogGains log_gains;
+  log_gains.fitted = GainDofs(robot, effects);
+  log_gains.known = &known;
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, &train_lines, log_gains);
   if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
+  std::optional<GainIdentificationResult> gains;
+  if (status == kOk && !log_gains.fitted.empty()) {
+    gains.emplace();
+    status = FitGains(*model, options, log_gains.fitted, known, &runs.samples, &validation, &*gains);
+  }
   if (status != kOk) return status;
   const JointSamples& train = runs.samples;
   const std::string data = RunsName(c.data);
@@ -172,11 +248,19 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   if (c.json) {
     nlohmann::json j = IdentificationJson(*model, run);
     if (!per_run.empty()) j["runs"] = RunErrorsJson(runs.names, per_run);
+    if (gains) {
+      for (size_t k = 0; k < log_gains.fitted.size(); ++k) {
+        j["gains"][model->dof_names()[static_cast<size_t>(log_gains.fitted[k])]] = {
+            {"g", gains->gains[static_cast<Eigen::Index>(k)]}};
+      }
+    }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << IdentificationText(*model, run) << RunErrorsText(runs.names, per_run, "The fit's error on the training runs");
+    std::cout << IdentificationText(*model, run) << RunErrorsText(runs.names, per_run, "The fit's error on the training runs")
+              << (gains ? GainsText(*model, log_gains.fitted, *gains) : "");
   }
-  status = WriteOutputs(c, robot, *model, run, c.validate.empty() ? train : validation);
+  status = WriteOutputs(c, robot, *model, run, c.validate.empty() ? train : validation,
+                        gains ? GainEffects(*model, log_gains.fitted, *gains) : std::vector<ModelEffect>{});
   if (status == kOk && !run.fit.lm.converged()) {
     std::cerr << "warning: the fit stopped on " << ToString(run.fit.lm.reason) << " after " << run.fit.lm.iterations
               << " iterations without converging (raise --max-iterations or --prior-weight)\n";

@@ -304,6 +304,7 @@ int RunReplayCommand(const ReplayCommand& c) {
   status = LoadRobot(c.model, c.effects, Vector3(0, 0, -9.81), &robot, &effects, &model);
   if (status == kOk) status = CheckMotorsFitModel(c, config.replay, *model);
   if (status != kOk) return status;
+  config.replay.log_gains = StatedLogGains(robot, robot.effects);  // a log of currents, in N m first
   OnlineJointEstimator estimator(*model, Eigen::VectorXd::Zero(model->num_parameters()), config.estimator);
   ReplayResult r;
   std::optional<StreamDiagnosis> diagnosis;

@@ -178,26 +178,45 @@ std::string RunsName(const std::vector<std::string>& files) {
 }
 
 int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
-                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines) {
+                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines,
+                  const LogGains& gains) {
   std::vector<JointSamples> logs(files.size());
+  std::vector<Eigen::MatrixXd> known(files.size());
   for (size_t k = 0; k < files.size(); ++k) {
     std::vector<int> run_lines;
     const int status = ReadRobotLog(files[k], robot, csv, &logs[k], &run_lines);
     if (status != kOk) return status;
     if (lines != nullptr) lines->insert(lines->end(), run_lines.begin(), run_lines.end());
+    if (gains.known_gains.size() == logs[k].tau.cols()) {  // the log in N m, by the model file's gains
+      logs[k].tau = logs[k].tau * gains.known_gains.cwiseInverse().asDiagonal();
+    }
+    known[k] = Eigen::MatrixXd::Zero(logs[k].size(), logs[k].tau.cols());
     for (const RunPayload& p : payloads) {
       if (p.file != files[k]) continue;
       std::vector<EffectSpec> effect = ParseEffectList("payload@" + p.link);
       effect[0].inertia = p.body;
       try {
         const RobotDynamics with(MakeRobotDynamics(robot, effect, gravity));
-        logs[k].tau -= BodyTorques(with, static_cast<int>(with.bodies().size()) - 1, logs[k]);
+        known[k] += BodyTorques(with, static_cast<int>(with.bodies().size()) - 1, logs[k]);
       } catch (const std::invalid_argument& e) {
         std::cerr << "Error: --run-payload " << p.text << ": " << e.what() << "\n";
         return kUsage;
       }
       std::cerr << "note: " << files[k] << ": the torques of the known payload on " << p.link << " (" << p.body.mass()
                 << " kg) are taken out of this run's\n";
+    }
+    Eigen::MatrixXd taken = known[k];
+    for (int d : gains.fitted) taken.col(d).setZero();  // a log to be scaled keeps it: in *known
+    logs[k].tau -= taken;
+  }
+  if (gains.known != nullptr) {
+    int rows = 0;
+    for (const Eigen::MatrixXd& m : known) rows += static_cast<int>(m.rows());
+    gains.known->setZero(rows, robot.tree.num_dofs());
+    rows = 0;
+    for (const Eigen::MatrixXd& m : known) {
+      for (int d : gains.fitted) gains.known->col(d).segment(rows, m.rows()) = m.col(d);
+      rows += static_cast<int>(m.rows());
     }
   }
   try {

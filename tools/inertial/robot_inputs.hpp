@@ -46,8 +46,19 @@ int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<st
 /// torques (model/body_torques.hpp) out of its run's, and lays the runs end to end
 /// (signal/recorded_runs.hpp); *lines (optional) gets each sample's line in its file. kOk, or the
 /// exit code (the error printed; kUsage for a payload on a link the robot does not have).
+/// Torque columns that are not N m (gain@joint, joint_effect.hpp): `known_gains` (per DOF, or empty:
+/// StatedLogGains) divides a column by a gain the model file states, before anything else; the DOFs in `fitted`
+/// keep their log as it is (their gain is to be fitted), and a known payload's torque on them goes
+/// to *known (rows = samples, columns = DOFs) instead of being taken out of the log.
+struct LogGains {
+  Eigen::VectorXd known_gains;
+  std::vector<int> fitted;
+  Eigen::MatrixXd* known = nullptr;
+};
+
 int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
-                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines = nullptr);
+                  const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines = nullptr,
+                  const LogGains& gains = {});
 
 /// The --data files as one name for messages: "a.csv" or "a.csv + b.csv".
 std::string RunsName(const std::vector<std::string>& files);

@@ -171,7 +171,9 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
   std::vector<RunPayload> payloads;
   status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
   RecordedRuns runs;
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs);
+  LogGains log_gains;  // torque columns the model file says are logged with a gain: in N m first
+  log_gains.known_gains = StatedLogGains(robot, effects);
+  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, nullptr, log_gains);
   if (status != kOk) return status;
   ModelValidation v;
   try {

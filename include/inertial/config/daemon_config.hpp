@@ -30,6 +30,9 @@ struct DaemonOptions {
   /// inertial.payload_event_t on this channel and logged; empty: none.
   std::string payload_channel = "INERTIAL_PAYLOAD_EVENT";
   JointMessageFormat format;
+  /// Per DOF: the gain of the logged torques (gain@joint of the model file); empty: N m. Set from the
+  /// model file, not from --config.
+  Eigen::VectorXd log_gains;
   double publish_rate_hz = 10.0;
   double residual_window_s = 1.0;
   std::string checkpoint_path;                      ///< empty: no checkpoints

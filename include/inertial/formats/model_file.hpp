@@ -29,7 +29,16 @@ struct ModelSnapshot {
   std::vector<std::vector<double>> effect_values;
   /// A comment for a body ("thigh", "rotor@hip", "payload@tool0") or effect ("coulomb@knee").
   std::map<std::string, std::string> notes;
+  /// Effects of the log rather than of the dynamics (gain@joint with its value), written after the
+  /// model's own.
+  std::vector<ModelEffect> measurement;
 };
+
+/// Per DOF of the robot: the gain of its torque column that `effects` state (gain@joint with a
+/// value, joint_effect.hpp), 1 where none; empty if none is stated.
+Eigen::VectorXd StatedLogGains(const RobotModel& robot, const std::vector<ModelEffect>& effects);
+/// The effects of `effects` that are of the log (gain@joint), for ModelSnapshot::measurement.
+std::vector<ModelEffect> MeasurementEffects(const std::vector<ModelEffect>& effects);
 
 /// The values at RobotDynamics parameters x.
 ModelSnapshot SnapshotAt(const RobotDynamics& model, const Eigen::VectorXd& x);

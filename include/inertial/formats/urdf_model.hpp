@@ -44,6 +44,7 @@
 ///       <sigmoid joint="J" amplitude="p1" steepness="p2" shift="p3"/>               [N m, s/rad, rad/s]
 ///       <rotor joint="J" gear_ratio="N"><inertial>...</inertial></rotor>
 ///       <payload link="L"><inertial>...</inertial></payload>
+///       <gain joint="J" value="g"/>    (J's torque column is g tau: e.g. a motor current [A per N m])
 ///     </inertial_effects>
 ///   A rotor's <inertial> is in the rotor's frame (the joint frame at rotor angle 0: origin and axes
 ///   of the child link's frame at q = 0), a payload's in its link's frame; both as URDF <inertial>.

@@ -21,6 +21,10 @@
 ///   offset    c                         free            [N m] (torque-sensor bias)
 ///   armature  Ia qdd                    Ia >= 0         [kg m^2] (reflected rotor inertia)
 ///   spring    k (q - q0)                k >= 0, q0 free [N m/rad], [rad]
+/// A measurement effect (not a torque: how the log's torque column relates to the joint torque):
+///   gain      the logged quantity is g tau (a motor current with an unknown torque constant and
+///             gear), g > 0 [log unit per N m]; fitted by gain_identification.hpp, not part of the
+///             dynamics' coefficients (RobotDynamics has no term for it).
 /// Body effects (ten log-Cholesky parameters each, relative to a prior body, eq. 11):
 ///   payload   an extra rigid body fixed to a link (default prior: a 0.5 kg sphere of radius 0.05 m
 ///             at the link origin; `mass=`, `radius=` change it)
@@ -46,14 +50,16 @@
 
 namespace inertial {
 
-enum class EffectKind { kViscous, kCoulomb, kOffset, kArmature, kSpring, kPayload, kRotor, kAsymmetric, kSigmoid };
+enum class EffectKind { kViscous, kCoulomb, kOffset, kArmature, kSpring, kPayload, kRotor, kAsymmetric, kSigmoid, kGain };
 
-/// "viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor", "asymmetric", "sigmoid".
+/// "viscous", "coulomb", "offset", "armature", "spring", "payload", "rotor", "asymmetric", "sigmoid", "gain".
 std::string_view ToString(EffectKind kind);
 /// Every kind, in the order of EffectKind.
 const std::vector<EffectKind>& AllEffectKinds();
-/// True for the per-joint scalar effects (not payload or rotor).
+/// True for the per-joint scalar effects (not payload or rotor; gain included).
 bool IsJointEffect(EffectKind kind);
+/// True for effects of the measurement rather than of the dynamics (gain).
+bool IsMeasurementEffect(EffectKind kind);
 
 struct EffectSpec {
   EffectKind kind = EffectKind::kViscous;
@@ -76,7 +82,7 @@ struct EffectSpec {
 struct ModelEffect {
   EffectSpec spec;  ///< a joint effect has one target joint; a body effect has spec.inertia set
   /// Joint effects: the physical coefficients in RobotDynamics::EffectValues order ({b}, {bc},
-  /// {c}, {Ia}, {k, q0}, {bp, bn}, {p1}); body effects: empty.
+  /// {c}, {Ia}, {k, q0}, {bp, bn}, {p1}, {g}); body effects: empty.
   std::vector<double> values;
 };
 
@@ -85,7 +91,7 @@ struct ModelEffect {
 int NumEffectValues(EffectKind kind);
 
 /// The names of those coefficients, in that order: {"b"}, {"bc"}, {"c"}, {"Ia"}, {"k", "q0"},
-/// {"bp", "bn"}, {"p1"}; empty for bodies.
+/// {"bp", "bn"}, {"p1"}, {"g"}; empty for bodies.
 std::vector<std::string> EffectValueNames(EffectKind kind);
 
 /// The sigmoid friction feature at unit amplitude: S(p2 (qd + p3)) - S(p2 p3), S(x) = 1 / (1 + e^-x).

@@ -37,6 +37,8 @@ struct ReplayOptions {
   JointCsvOptions csv;
   /// Set: the log is a candump log of these motors.
   std::optional<CanConfig> can;
+  /// Per DOF: the gain of the logged torques (gain@joint of the model file); empty: N m.
+  Eigen::VectorXd log_gains;
 };
 
 struct ReplayResult {

@@ -40,6 +40,10 @@ class SamplePipeline {
     UpdateStatus status = UpdateStatus::kAccepted;
     bool accepted() const { return rejection == Rejection::kNone && status == UpdateStatus::kAccepted; }
   };
+  /// Per DOF, the gain of the logged torque (gain@joint of the model file): every robot sample's
+  /// tau is divided by it before anything else. Empty: the log is in N m. @throws
+  /// std::invalid_argument if not num_dofs positive finite numbers.
+  void SetLogGains(const Eigen::VectorXd& gains);
   /// One decoded sample through preprocessing and the estimator (*sample is completed in place).
   Outcome Process(Sample* sample);
   /// For drivers that solve in line (replay): re-solves the robot's objective (gauss_newton,
@@ -81,6 +85,7 @@ class SamplePipeline {
   StreamPreprocessor preprocessor_;
   SampleCounters counters_;
   Eigen::VectorXd residual_, window_sum_, window_rms_;
+  Eigen::VectorXd log_gains_;  ///< empty: tau in N m
   double window_s_, window_start_ = -1.0, last_t_ = 0.0;
   int window_count_ = 0;
   std::uint64_t held_kept_ = 0, held_refused_ = 0;  ///< the fit's, as of the last Reconcile
