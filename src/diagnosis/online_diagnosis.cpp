@@ -107,7 +107,7 @@ std::vector<OnlineBodyState> OnlineBodyStates(const RobotDynamics& model, const 
     s.name = body.name;
     s.link = body.name.rfind("rotor@", 0) != 0 && body.name.rfind("payload@", 0) != 0;
     if (linear) {
-      s.estimate = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
+      s.estimate = InertialParams::FromVector(x.segment<10>(10 * body.block));
       s.prior = body.prior;
     } else {
       s.estimate = model.BodyInertia(e, x);

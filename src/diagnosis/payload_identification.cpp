@@ -118,7 +118,7 @@ JointSamples PayloadDifferenceSamples(const RobotDynamics& model, const std::str
   // payload's prior taken out of its link's block) at the with-run's state.
   Eigen::VectorXd w_links = model.Coefficients(Eigen::VectorXd::Zero(model.num_parameters()));
   const EstimatedBody& body = model.bodies()[payload];
-  w_links.segment<10>(10 * body.tree_body) -= body.prior.vector();
+  w_links.segment<10>(10 * body.block) -= body.prior.vector();
   JointSamples out;
   out.joint_names = with_payload.joint_names;
   out.t.resize(m);

@@ -54,8 +54,8 @@ CovarianceUncertainty UncertaintyFromCovariance(const RobotDynamics& model, cons
     Matrix10 C;
     InertialParams pi;
     if (linear) {  // x = w: the tree body's pi and its covariance block directly
-      C = P.block<10, 10>(10 * body.tree_body, 10 * body.tree_body);
-      pi = InertialParams::FromVector(x.segment<10>(10 * body.tree_body));
+      C = P.block<10, 10>(10 * body.block, 10 * body.block);
+      pi = InertialParams::FromVector(x.segment<10>(10 * body.block));
     } else {
       Matrix10 J;
       body.map.ToPi(x.segment<10>(10 * e), &J);

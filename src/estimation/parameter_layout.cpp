@@ -37,7 +37,7 @@ ParameterLayout::ParameterLayout(int num_features, std::vector<BodyBlock> bodies
 ParameterLayout ParameterLayout::FromRobot(const RobotDynamics& model) {
   std::vector<BodyBlock> bodies;
   for (size_t e = 0; e < model.bodies().size(); ++e) {
-    bodies.push_back(BodyBlock{model.bodies()[e].map, 10 * model.bodies()[e].tree_body, static_cast<int>(10 * e)});
+    bodies.push_back(BodyBlock{model.bodies()[e].map, 10 * model.bodies()[e].block, static_cast<int>(10 * e)});
   }
   std::vector<ScalarBlock> scalars;
   for (const EffectTerm& t : model.effects()) {

@@ -20,7 +20,7 @@ Eigen::MatrixXd BodyTorques(const RobotDynamics& model, int e, const JointSample
   Eigen::MatrixXd tau(data.size(), n);
   for (int i = 0; i < data.size(); ++i) {
     model.Features(data.q.row(i).transpose(), data.qd.row(i).transpose(), data.qdd.row(i).transpose(), A);
-    tau.row(i) = (A.middleCols<10>(10 * body.tree_body) * pi).transpose();
+    tau.row(i) = (A.middleCols<10>(10 * body.block) * pi).transpose();
   }
   return tau;
 }

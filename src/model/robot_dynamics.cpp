@@ -95,12 +95,13 @@ void AddPayloads(const std::vector<EffectSpec>& effects, const LinkResolver& res
       throw std::invalid_argument("effect '" + e.text + "': link '" + e.target +
                                   "' is fixed to the base, so a payload on it never affects the joint torques");
     }
-    if (!payload_links.insert(e.target).second) throw std::invalid_argument("effect '" + e.text + "': a second payload on '" + e.target + "'");
+    // a payload of its own block belongs to one run (run_local_bodies.hpp): several may share a link
+    if (!e.own_features && !payload_links.insert(e.target).second) throw std::invalid_argument("effect '" + e.text + "': a second payload on '" + e.target + "'");
     const double m = e.mass > 0 ? e.mass : 0.5, r = e.radius > 0 ? e.radius : 0.05;
     const InertialParams prior =
         (e.inertia ? *e.inertia : SolidSphere(m, r)).Transformed(where.link_in_body.R_AB, where.link_in_body.p_AB);
-    bodies->push_back(EstimatedBody{"payload@" + e.target, where.body, prior, LogCholeskyParameterization(prior),
-                                    where.link_in_body});
+    bodies->push_back(EstimatedBody{"payload@" + e.target, where.body, e.own_features ? -2 : where.body, prior,
+                                    LogCholeskyParameterization(prior), where.link_in_body});
   }
 }
 
@@ -155,12 +156,16 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
   if (!gravity.allFinite()) throw std::invalid_argument("robot dynamics: gravity is not finite");
   AddRotors(links, dof_names_, effects, &tree_);
   for (int b = 0; b < tree_.num_bodies(); ++b) {
-    bodies_.push_back(EstimatedBody{tree_.body_name(b), b, tree_.inertia(b), LogCholeskyParameterization(tree_.inertia(b)),
-                                    SpatialTransform()});
+    bodies_.push_back(EstimatedBody{tree_.body_name(b), b, b, tree_.inertia(b),
+                                    LogCholeskyParameterization(tree_.inertia(b)), SpatialTransform()});
   }
   AddPayloads(effects, resolve_link, &bodies_);
+  num_blocks_ = tree_.num_bodies();
+  for (EstimatedBody& b : bodies_) {
+    if (b.block == -2) b.block = num_blocks_++;  // a payload's own block, after the tree bodies'
+  }
   num_parameters_ = 10 * static_cast<int>(bodies_.size());
-  num_features_ = 10 * tree_.num_bodies();
+  num_features_ = num_inertia_features();
   AddJointEffects(effects, dof_names_, num_dofs(), &num_parameters_, &num_features_, &effects_);
 }
 
@@ -189,6 +194,10 @@ std::vector<std::string> RobotDynamics::FeatureNames() const {
   std::vector<std::string> names;
   for (int b = 0; b < tree_.num_bodies(); ++b) {
     for (const char* n : kPiNames) names.push_back(tree_.body_name(b) + "." + n);
+  }
+  for (const EstimatedBody& b : bodies_) {
+    if (b.block == b.tree_body) continue;
+    for (const char* n : kPiNames) names.push_back(b.name + "." + n);
   }
   for (const EffectTerm& t : effects_) {
     const std::string prefix = std::string(ToString(t.kind)) + "@" + t.joint + ".";
@@ -222,8 +231,11 @@ void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd
 void RobotDynamics::Features(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                              TreeWorkspace* workspace, Eigen::Ref<Eigen::MatrixXd> A) const {
   INERTIAL_ASSERT(A.rows() == num_dofs() && A.cols() == num_features_);
-  tree_.JointTorqueRegressor(q, qd, qdd, gravity_, workspace, A.leftCols(num_inertia_features()));
-  A.rightCols(num_features_ - num_inertia_features()).setZero();
+  tree_.JointTorqueRegressor(q, qd, qdd, gravity_, workspace, A.leftCols(num_tree_features()));
+  A.rightCols(num_features_ - num_tree_features()).setZero();
+  for (const EstimatedBody& b : bodies_) {
+    if (b.block != b.tree_body) A.middleCols<10>(10 * b.block) = A.middleCols<10>(10 * b.tree_body);
+  }
   for (const EffectTerm& t : effects_) {
     const std::array<double, 2> a = EffectFeatures(t, q, qd, qdd);
     for (int k = 0; k < t.size(); ++k) A(t.dof, t.first_feature + k) = a[k];
@@ -240,7 +252,7 @@ Eigen::VectorXd RobotDynamics::Coefficients(const Eigen::VectorXd& x, Eigen::Mat
   Matrix10 J;
   for (size_t e = 0; e < bodies_.size(); ++e) {
     const Vector10 theta = x.segment<10>(10 * e);
-    const int row = 10 * bodies_[e].tree_body;
+    const int row = 10 * bodies_[e].block;
     w.segment<10>(row) += bodies_[e].map.ToPi(theta, J_w_x != nullptr ? &J : nullptr);
     if (J_w_x != nullptr) J_w_x->block<10, 10>(row, 10 * e) = J;
   }
@@ -280,7 +292,16 @@ Eigen::VectorXd RobotDynamics::InverseDynamicsFromCoefficients(const Eigen::Vect
     throw std::invalid_argument("robot dynamics: " + std::to_string(w.size()) + " coefficients given, " +
                                 std::to_string(num_features_) + " expected");
   }
-  Eigen::VectorXd tau = tree_.InverseDynamics(w.head(num_inertia_features()), q, qd, qdd, gravity_);
+  Eigen::VectorXd tau;
+  if (num_blocks_ == tree_.num_bodies()) {
+    tau = tree_.InverseDynamics(w.head(num_tree_features()), q, qd, qdd, gravity_);
+  } else {  // payloads with blocks of their own move with their tree bodies
+    Eigen::VectorXd pi = w.head(num_tree_features());
+    for (const EstimatedBody& b : bodies_) {
+      if (b.block != b.tree_body) pi.segment<10>(10 * b.tree_body) += w.segment<10>(10 * b.block);
+    }
+    tau = tree_.InverseDynamics(pi, q, qd, qdd, gravity_);
+  }
   for (const EffectTerm& t : effects_) {
     const std::array<double, 2> a = EffectFeatures(t, q, qd, qdd);
     for (int k = 0; k < t.size(); ++k) tau[t.dof] += a[k] * w[t.first_feature + k];

@@ -38,8 +38,8 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
                   "differentiated on its own; without --validate the last --holdout of each is held out)")
       ->required();
   sub->add_option("--run-payload", c->run_payloads,
-                  "robots: FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE carried this known "
-                  "payload (identify --run-payload)");
+                  "robots: FILE=LINK[:mass=M[:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]]]: the run FILE carried this "
+                  "payload; what is not given is fitted (identify --run-payload)");
   sub->add_option("--validate", c->validate, "held-out log (CSV)");
   sub->add_option("--holdout", c->holdout,
                   "without --validate: hold out this last fraction of --data (robots: default 0.3; --body: instead of "
@@ -274,14 +274,14 @@ int ParseRobotOptions(const DiagnoseCommand& c, JointDiagnosisOptions* options, 
 // The robot's training and held-out logs (--validate, or the last `holdout` of --data), rows no
 // statistic can use left out; *source names the held-out data. kOk, or the exit code (printed).
 int ReadRobotLogs(const DiagnoseCommand& c, const RobotModel& robot, const Vector3& gravity, const JointCsvOptions& csv,
-                  double holdout, const RobotDynamics& links, JointSamples* train, JointSamples* validation,
-                  std::string* source, RecordedRuns* held_runs) {
+                  double holdout, const RobotDynamics& links, const RunPayloadFit& payload_fit, JointSamples* train,
+                  JointSamples* validation, std::string* source, RecordedRuns* held_runs) {
   std::vector<RunPayload> payloads;
   int status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
   RecordedRuns all;
   LogGains log_gains;  // a model file's stated gains: the log in N m first
   log_gains.known_gains = StatedLogGains(robot, robot.effects);
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &all, nullptr, log_gains);
+  if (status == kOk) status = ReadRobotRuns(c.data, &payloads, robot, gravity, csv, &all, nullptr, log_gains, &payload_fit);
   const std::string data = RunsName(c.data);
   if (status == kOk && !c.validate.empty()) {
     status = ReadRobotLog(c.validate, robot, csv, validation);
@@ -336,7 +336,13 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   JointSamples train, validation;
   std::string source;
   RecordedRuns held_runs;
-  status = ReadRobotLogs(c, robot, gravity, csv, holdout, make({}), &train, &validation, &source, &held_runs);
+  RunPayloadFit payload_fit;  // payloads without a COM: fitted on the training share of their runs
+  payload_fit.effects = effects;
+  payload_fit.options = options.fit;
+  payload_fit.hold_links = c.hold_links;
+  payload_fit.share = c.validate.empty() ? 1.0 - holdout : 1.0;
+  status = ReadRobotLogs(c, robot, gravity, csv, holdout, make({}), payload_fit, &train, &validation, &source,
+                         &held_runs);
   if (status != kOk) return status;
   std::vector<DiagnosisStep> path;
   JointDiagnosis d;

@@ -34,8 +34,9 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
                   "(each run differentiated on its own)")
       ->required();
   sub->add_option("--run-payload", c->run_payloads,
-                  "FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE (a --data file) was "
-                  "recorded carrying this known payload on LINK (COM and inertia about the COM in LINK's frame); its "
+                  "FILE=LINK[:mass=M[:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]]]: the run FILE (a --data file) was "
+                  "recorded carrying a payload on LINK (COM and inertia about the COM in LINK's frame); what is not "
+                  "given is fitted with the model from every run (the mass held where stated), and the payload's "
                   "torques are taken out of that run's");
   sub->add_option("--validate", c->validate, "validation log (CSV): errors of the prior and of the fit on it");
   sub->add_option("--effects", c->effects,
@@ -195,6 +196,24 @@ std::vector<ModelEffect> GainEffects(const RobotDynamics& model, const std::vect
   return out;
 }
 
+// Each --run-payload's body as used: stated, or fitted with the model (mass, COM and inertia about
+// the COM in its link's frame).
+nlohmann::json RunPayloadsJson(const std::vector<RunPayload>& payloads) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RunPayload& p : payloads) {
+    const Vector3 c = p.body.com();
+    const Matrix3 I = p.body.rotational_inertia_about_com();
+    out.push_back({{"run", p.file},
+                   {"link", p.link},
+                   {"fitted", p.fitted},
+                   {"mass_stated", p.mass_known},
+                   {"mass", p.body.mass()},
+                   {"com", {c.x(), c.y(), c.z()}},
+                   {"inertia", {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)}}});
+  }
+  return out;
+}
+
 }  // namespace
 
 int RunIdentifyCommand(const IdentifyCommand& c) {
@@ -220,7 +239,12 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   LogGains log_gains;
   log_gains.fitted = GainDofs(robot, effects);
   log_gains.known = &known;
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, &train_lines, log_gains);
+  RunPayloadFit payload_fit;  // payloads without a COM: fitted with the model, then known
+  payload_fit.effects = effects;
+  payload_fit.options = options;
+  if (status == kOk) {
+    status = ReadRobotRuns(c.data, &payloads, robot, gravity, csv, &runs, &train_lines, log_gains, &payload_fit);
+  }
   if (status == kOk && !c.validate.empty()) status = ReadRobotLog(c.validate, robot, csv, &validation);
   std::optional<GainIdentificationResult> gains;
   if (status == kOk && !log_gains.fitted.empty()) {
@@ -248,6 +272,7 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   if (c.json) {
     nlohmann::json j = IdentificationJson(*model, run);
     if (!per_run.empty()) j["runs"] = RunErrorsJson(runs.names, per_run);
+    if (!payloads.empty()) j["run_payloads"] = RunPayloadsJson(payloads);
     if (gains) {
       for (size_t k = 0; k < log_gains.fitted.size(); ++k) {
         j["gains"][model->dof_names()[static_cast<size_t>(log_gains.fitted[k])]] = {

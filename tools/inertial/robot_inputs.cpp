@@ -1,5 +1,7 @@
 #include "robot_inputs.hpp"
 
+#include "run_payload_fit.hpp"
+
 #include <algorithm>
 #include <iostream>
 
@@ -102,9 +104,10 @@ bool SplitKey(const std::string& part, std::string* key, std::string* value) {
   return true;
 }
 
-// The body of one --run-payload item from its keys; throws std::invalid_argument (usage) or
-// InvalidNumber.
-InertialParams PayloadBody(const std::vector<std::string>& parts, const std::string& item) {
+// The body of one --run-payload item from its keys into p->body: the stated body when mass and COM
+// are given, else the prior of the fit that finds the rest (p->fitted). Throws
+// std::invalid_argument (usage) or InvalidNumber.
+void PayloadBody(const std::vector<std::string>& parts, const std::string& item, RunPayload* p) {
   std::optional<double> mass;
   std::optional<Vector3> com;
   std::optional<std::vector<double>> inertia;
@@ -119,10 +122,16 @@ InertialParams PayloadBody(const std::vector<std::string>& parts, const std::str
     if (key == "com") com = Vector3(v[0], v[1], v[2]);
     if (key == "inertia") inertia = v;
   }
-  if (!mass || !com) {
-    throw std::invalid_argument("give the payload's mass= and com= (a COM you do not know: `inertial payload` finds it)");
+  if (com && !mass) throw std::invalid_argument("a COM without a mass: give mass= too, or neither to fit both");
+  if (inertia && !com) throw std::invalid_argument("an inertia about a COM that is not given: give com= too");
+  if (mass && !(*mass > 0.0)) throw std::invalid_argument("the mass must be positive");
+  p->mass_known = mass.has_value();
+  p->fitted = !com.has_value();
+  p->known = !p->fitted;
+  if (p->fitted) {  // the fit's prior (run_local_bodies.hpp): the stated mass, or half a kilogram, at the link's origin
+    p->body = SolidSphere(mass ? *mass : 0.5, 0.05);
+    return;
   }
-  if (!(*mass > 0.0)) throw std::invalid_argument("the mass must be positive");
   Matrix3 I_com;
   if (inertia) {
     const std::vector<double>& i = *inertia;
@@ -130,12 +139,11 @@ InertialParams PayloadBody(const std::vector<std::string>& parts, const std::str
   } else {
     I_com = SolidSphere(*mass, 0.01).rotational_inertia_about_com();
   }
-  const InertialParams body = InertialParams::FromMassComInertia(*mass, *com, I_com);
-  if (!CheckConsistency(body).fully_consistent()) {
+  p->body = InertialParams::FromMassComInertia(*mass, *com, I_com);
+  if (!CheckConsistency(p->body).fully_consistent()) {
     throw InvalidNumber("--run-payload " + item + ": the inertia is not that of a real body (its principal moments "
                         "must be positive and each at most the sum of the other two)");
   }
-  return body;
 }
 
 }  // namespace
@@ -147,7 +155,7 @@ int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<st
     p.text = item;
     const std::size_t eq = item.find('=');
     try {
-      if (eq == std::string::npos) throw std::invalid_argument("expected FILE=LINK:mass=M:com=X,Y,Z");
+      if (eq == std::string::npos) throw std::invalid_argument("expected FILE=LINK[:mass=M[:com=X,Y,Z]]");
       p.file = item.substr(0, eq);
       if (std::find(files.begin(), files.end(), p.file) == files.end()) {
         throw std::invalid_argument("'" + p.file + "' is not one of the --data files (" + RunsName(files) + ")");
@@ -158,7 +166,7 @@ int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<st
       parts.push_back(rest);
       p.link = parts[0];
       if (p.link.empty()) throw std::invalid_argument("no link after '='");
-      p.body = PayloadBody(parts, item);
+      PayloadBody(parts, item, &p);
     } catch (const InvalidNumber& e) {
       std::cerr << "Error: " << e.what() << "\n";
       return kInvalidValue;
@@ -177,9 +185,36 @@ std::string RunsName(const std::vector<std::string>& files) {
   return name;
 }
 
-int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
+namespace {
+
+// The torques of the known payloads of the run read from `file` (every column); with `say`, a note of each.
+int KnownPayloadTorques(const std::string& file, const JointSamples& log, const std::vector<RunPayload>& payloads,
+                        const RobotModel& robot, const Vector3& gravity, bool say, Eigen::MatrixXd* known) {
+  *known = Eigen::MatrixXd::Zero(log.size(), log.tau.cols());
+  for (const RunPayload& p : payloads) {
+    if (p.file != file || !p.known) continue;
+    std::vector<EffectSpec> effect = ParseEffectList("payload@" + p.link);
+    effect[0].inertia = p.body;
+    try {
+      const RobotDynamics with(MakeRobotDynamics(robot, effect, gravity));
+      *known += BodyTorques(with, static_cast<int>(with.bodies().size()) - 1, log);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --run-payload " << p.text << ": " << e.what() << "\n";
+      return kUsage;
+    }
+    if (say) {
+      std::cerr << "note: " << file << ": the torques of the known payload on " << p.link << " (" << p.body.mass()
+                << " kg) are taken out of this run's\n";
+    }
+  }
+  return kOk;
+}
+
+}  // namespace
+
+int ReadRobotRuns(const std::vector<std::string>& files, std::vector<RunPayload>* payloads, const RobotModel& robot,
                   const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines,
-                  const LogGains& gains) {
+                  const LogGains& gains, const RunPayloadFit* fit) {
   std::vector<JointSamples> logs(files.size());
   std::vector<Eigen::MatrixXd> known(files.size());
   for (size_t k = 0; k < files.size(); ++k) {
@@ -190,21 +225,18 @@ int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPa
     if (gains.known_gains.size() == logs[k].tau.cols()) {  // the log in N m, by the model file's gains
       logs[k].tau = logs[k].tau * gains.known_gains.cwiseInverse().asDiagonal();
     }
-    known[k] = Eigen::MatrixXd::Zero(logs[k].size(), logs[k].tau.cols());
-    for (const RunPayload& p : payloads) {
-      if (p.file != files[k]) continue;
-      std::vector<EffectSpec> effect = ParseEffectList("payload@" + p.link);
-      effect[0].inertia = p.body;
-      try {
-        const RobotDynamics with(MakeRobotDynamics(robot, effect, gravity));
-        known[k] += BodyTorques(with, static_cast<int>(with.bodies().size()) - 1, logs[k]);
-      } catch (const std::invalid_argument& e) {
-        std::cerr << "Error: --run-payload " << p.text << ": " << e.what() << "\n";
-        return kUsage;
-      }
-      std::cerr << "note: " << files[k] << ": the torques of the known payload on " << p.link << " (" << p.body.mass()
-                << " kg) are taken out of this run's\n";
+    const int found = KnownPayloadTorques(files[k], logs[k], *payloads, robot, gravity, true, &known[k]);
+    if (found != kOk) return found;
+  }
+  if (std::any_of(payloads->begin(), payloads->end(), [](const RunPayload& p) { return !p.known; })) {
+    int status = FitRunPayloads(files, logs, known, robot, gravity, fit != nullptr ? *fit : RunPayloadFit{},
+                                gains.fitted, payloads);
+    for (size_t k = 0; k < files.size() && status == kOk; ++k) {
+      status = KnownPayloadTorques(files[k], logs[k], *payloads, robot, gravity, false, &known[k]);
     }
+    if (status != kOk) return status;
+  }
+  for (size_t k = 0; k < files.size(); ++k) {
     Eigen::MatrixXd taken = known[k];
     for (int d : gains.fitted) taken.col(d).setZero();  // a log to be scaled keeps it: in *known
     logs[k].tau -= taken;

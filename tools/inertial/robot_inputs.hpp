@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/signal/recorded_runs.hpp"
@@ -28,12 +29,28 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
 int ReadRobotLog(const std::string& path, const RobotModel& robot, const JointCsvOptions& csv, JointSamples* samples,
                  std::vector<int>* lines = nullptr);
 
-/// A payload carried, and known, during one run: `--run-payload FILE=LINK:mass=M:com=X,Y,Z` with
-/// optionally `:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ` (kg m^2 about its COM, in LINK's frame; without
-/// it, a sphere of radius 1 cm: a point mass to within the torque its own rotation adds).
+/// A payload carried during one run: `--run-payload FILE=LINK:mass=M:com=X,Y,Z` with optionally
+/// `:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ` (kg m^2 about its COM, in LINK's frame; without it, a sphere
+/// of radius 1 cm: a point mass to within the torque its own rotation adds). Without com=, its COM
+/// and inertia are fitted with the model (run_payload_fit.hpp), its mass held at mass= where given,
+/// fitted too where not (`FILE=LINK`).
 struct RunPayload {
   std::string file, link, text;
-  InertialParams body;  ///< in LINK's frame
+  InertialParams body;      ///< in LINK's frame: as stated, or (fitted) the fit's prior, then its result
+  bool fitted = false;      ///< the COM (and inertia, and mass unless mass_known) fitted with the model
+  bool mass_known = false;
+  bool known = true;        ///< body holds the payload (as stated, or once fitted)
+};
+
+/// How ReadRobotRuns fits run payloads whose COM is not given (run_payload_fit.hpp).
+struct RunPayloadFit {
+  std::vector<EffectSpec> effects;       ///< the model's effects (joint effects, rotors, payloads)
+  JointIdentificationOptions options;    ///< prior weight and Levenberg-Marquardt settings
+  bool hold_links = false;               ///< links and rotors held at the model's (diagnose --hold-links)
+  /// validate: every effect held at these stated values and the links at the model's, so that only
+  /// the payload is fitted; empty: the effects fitted with the payload.
+  std::optional<std::vector<ModelEffect>> stated_effects;
+  double share = 1.0;                    ///< the first share of each run's duration fitted (diagnose: 1 - holdout)
 };
 
 /// Parses --run-payload items against the --data files. kUsage naming the item and what is wrong
@@ -56,9 +73,11 @@ struct LogGains {
   Eigen::MatrixXd* known = nullptr;
 };
 
-int ReadRobotRuns(const std::vector<std::string>& files, const std::vector<RunPayload>& payloads, const RobotModel& robot,
+/// Payloads to be fitted (RunPayload::fitted) are fitted first, with `fit` (required then), and
+/// then taken out as known ones; their bodies are written back into *payloads.
+int ReadRobotRuns(const std::vector<std::string>& files, std::vector<RunPayload>* payloads, const RobotModel& robot,
                   const Vector3& gravity, const JointCsvOptions& csv, RecordedRuns* runs, std::vector<int>* lines = nullptr,
-                  const LogGains& gains = {});
+                  const LogGains& gains = {}, const RunPayloadFit* fit = nullptr);
 
 /// The --data files as one name for messages: "a.csv" or "a.csv + b.csv".
 std::string RunsName(const std::vector<std::string>& files);

@@ -32,8 +32,8 @@ CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* c) {
                   "pooled)")
       ->required();
   sub->add_option("--run-payload", c->run_payloads,
-                  "robots: FILE=LINK:mass=M:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]: the run FILE carried this known "
-                  "payload (identify --run-payload)");
+                  "robots: FILE=LINK[:mass=M[:com=X,Y,Z[:inertia=IXX,IYY,IZZ,IXY,IXZ,IYZ]]]: the run FILE carried this "
+                  "payload; what is not given is fitted (identify --run-payload)");
   sub->add_option("--effects", c->effects,
                   "effects to add to the model's own (robots: identify's syntax, e.g. viscous@knee,offset; --body: "
                   "force_bias,moment_bias,velocity_bias,gravity), with their values in --effect-values");
@@ -173,7 +173,10 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
   RecordedRuns runs;
   LogGains log_gains;  // torque columns the model file says are logged with a gain: in N m first
   log_gains.known_gains = StatedLogGains(robot, effects);
-  if (status == kOk) status = ReadRobotRuns(c.data, payloads, robot, gravity, csv, &runs, nullptr, log_gains);
+  RunPayloadFit payload_fit;  // payloads without a COM: fitted to the runs with the model as it is
+  payload_fit.effects = specs;
+  payload_fit.stated_effects = effects;
+  if (status == kOk) status = ReadRobotRuns(c.data, &payloads, robot, gravity, csv, &runs, nullptr, log_gains, &payload_fit);
   if (status != kOk) return status;
   ModelValidation v;
   try {

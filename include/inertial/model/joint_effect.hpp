@@ -76,6 +76,10 @@ struct EffectSpec {
   /// link's frame; a rotor in its own frame: origin on the joint axis where the joint frame is,
   /// axes those of the joint frame at rotor angle 0). Set when a model file states the body.
   std::optional<InertialParams> inertia;
+  /// Payload: its 10 regressor columns form a block of their own (RobotDynamics::EstimatedBody::
+  /// block) instead of adding to its link's, so that a fit of several runs can give them only to
+  /// the run that carried it (estimation/batch/run_local_bodies.hpp).
+  bool own_features = false;
 };
 
 /// An effect with known coefficients, as a model file holds it (urdf_effects.hpp).

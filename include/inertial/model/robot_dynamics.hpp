@@ -9,7 +9,8 @@
 ///
 /// x = [theta of every estimated body (10 each, log-Cholesky relative to its prior, eq. 11: x = 0
 /// is the prior); effect parameters]. Estimated bodies are, in order: every tree body (URDF links,
-/// then rotors), then payloads (each adds to the pi block of the tree body its link belongs to).
+/// then rotors), then payloads (each adds to the pi block of the tree body its link belongs to, or
+/// has a block of its own: EffectSpec::own_features).
 /// Effect parameters: s with coefficient e^s for viscous, coulomb, armature, sigmoid (non-negative
 /// by construction); [s+, s-] for asymmetric (bp = e^s+, bn = e^s-); c for offset; [s, q0] for
 /// spring (k = e^s, features q and -1 with coefficients k and k q0). See joint_effect.hpp for the
@@ -38,7 +39,11 @@ using LinkResolver = std::function<bool(const std::string& link, LinkLocation* l
 
 struct EstimatedBody {
   std::string name;          ///< link name, "rotor@<joint>" or "payload@<link>"
-  int tree_body = -1;        ///< the regressor block its pi adds to
+  int tree_body = -1;        ///< the tree body whose motion it shares
+  /// Its 10 columns of A and entries of w start at 10 block: tree_body, except for a payload
+  /// with EffectSpec::own_features, whose block (after every tree body's) repeats its tree body's
+  /// columns so that a fit can give them to some samples only (a run that carried it).
+  int block = -1;
   InertialParams prior;      ///< in the tree body's frame
   LogCholeskyParameterization map;  ///< relative to the prior (eq. 11)
   SpatialTransform report_frame;    ///< the user's frame for it, posed in the tree body's frame
@@ -67,7 +72,10 @@ class RobotDynamics {
   int num_dofs() const { return tree_.num_dofs(); }
   int num_parameters() const { return num_parameters_; }
   int num_features() const { return num_features_; }
-  int num_inertia_features() const { return 10 * tree_.num_bodies(); }
+  /// The bodies' columns of A: every tree body's block, then the own blocks of payloads with
+  /// EffectSpec::own_features (none in most models); the effect features follow.
+  int num_inertia_features() const { return 10 * num_blocks_; }
+  int num_tree_features() const { return 10 * tree_.num_bodies(); }
   const KinematicTree& tree() const { return tree_; }  ///< links and rotors
   const std::vector<std::string>& dof_names() const { return dof_names_; }
   const std::vector<EstimatedBody>& bodies() const { return bodies_; }
@@ -121,6 +129,7 @@ class RobotDynamics {
   Vector3 gravity_;
   int num_parameters_ = 0;
   int num_features_ = 0;
+  int num_blocks_ = 0;
 };
 
 }  // namespace inertial

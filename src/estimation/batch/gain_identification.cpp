@@ -72,13 +72,8 @@ DenseLevenbergMarquardtResult FitInLogSpace(const RobotDynamics& model, const Ga
         grad->segment<10>(10 * e) += options.prior_weight * J_r.transpose() * r;
         H->block<10, 10>(10 * e, 10 * e) += options.prior_weight * J_r.transpose() * J_r;
       }
-      if (derivatives && !options.frozen_bodies.empty() && options.frozen_bodies[static_cast<size_t>(e)]) {
-        grad->segment<10>(10 * e).setZero();
-        H->middleRows(10 * e, 10).setZero();
-        H->middleCols(10 * e, 10).setZero();
-        H->block<10, 10>(10 * e, 10 * e).setIdentity();
-      }
     }
+    if (derivatives) HoldParameters(options, grad, H);
     *cost = 0.5 * (std::max(data, 0.0) + options.prior_weight * reg);
     return std::isfinite(*cost);
   };
@@ -145,7 +140,8 @@ GainProblem AccumulateGainProblem(const RobotDynamics& model, const JointSamples
 }
 
 std::optional<std::string> GainScaleProblem(const RobotDynamics& model, const Eigen::MatrixXd& known,
-                                            const std::vector<int>& gain_dofs, const std::vector<bool>& frozen_bodies) {
+                                            const std::vector<int>& gain_dofs, const std::vector<bool>& frozen_bodies,
+                                            const std::vector<int>& held_parameters) {
   if (gain_dofs.empty() || static_cast<int>(gain_dofs.size()) < model.num_dofs()) return std::nullopt;
   for (int d : gain_dofs) {
     if (known.size() != 0 && known.col(d).cwiseAbs().maxCoeff() > 0.0) return std::nullopt;
@@ -153,10 +149,14 @@ std::optional<std::string> GainScaleProblem(const RobotDynamics& model, const Ei
   for (bool frozen : frozen_bodies) {
     if (frozen) return std::nullopt;
   }
+  const int body_parameters = 10 * static_cast<int>(model.bodies().size());
+  for (int p : held_parameters) {
+    if (p < body_parameters && p % 10 == 0) return std::nullopt;  // a body's alpha: a mass known in kg
+  }
   return std::string("every joint's torque column is a logged quantity with an unknown gain, and nothing else is "
                      "known in N m, so the links and the gains could grow together without changing the fit: the "
-                     "gains are not identifiable. Record a run carrying a payload of known mass and COM "
-                     "(--run-payload FILE=LINK:mass=M:com=X,Y,Z), or state one joint's gain (drop its gain@)");
+                     "gains are not identifiable. Record a run carrying a payload of known mass "
+                     "(--run-payload FILE=LINK:mass=M), or state one joint's gain (drop its gain@)");
 }
 
 GainIdentificationResult IdentifyWithGains(const RobotDynamics& model, const GainProblem& problem,

@@ -108,7 +108,7 @@ Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const Joint
   const int T = Fi / 10;
   std::vector<int> estimated(T, 0), thawed(T, 0);
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const int b = model.bodies()[e].tree_body;
+    const int b = model.bodies()[e].block;
     ++estimated[b];
     if (frozen_bodies.empty() || !frozen_bodies[e]) ++thawed[b];
   }
@@ -180,6 +180,9 @@ void CheckIdentificationInputs(const RobotDynamics& model, const JointNormalEqua
     throw std::invalid_argument("identification: the initial parameters must be " + std::to_string(P) +
                                 " finite numbers");
   }
+  for (int p : options.held_parameters) {
+    if (p < 0 || p >= P) throw std::invalid_argument("identification: a held parameter is not an entry of x");
+  }
 }
 
 // One block of the coefficients' Jacobian J_w: rows [row, row + rows) (features), columns
@@ -193,7 +196,7 @@ struct JacobianBlock {
 std::vector<JacobianBlock> CoefficientJacobianBlocks(const RobotDynamics& model) {
   std::vector<JacobianBlock> blocks;
   const int B = static_cast<int>(model.bodies().size());
-  for (int e = 0; e < B; ++e) blocks.push_back({10 * model.bodies()[e].tree_body, 10 * e, 10, 10});
+  for (int e = 0; e < B; ++e) blocks.push_back({10 * model.bodies()[e].block, 10 * e, 10, 10});
   for (const EffectTerm& t : model.effects()) blocks.push_back({t.first_feature, t.first_parameter, t.size(), t.size()});
   return blocks;
 }
@@ -222,7 +225,7 @@ void AddSecondOrderTerms(const RobotDynamics& model, const Eigen::VectorXd& x, c
   for (int e = 0; e < B; ++e) {
     const EstimatedBody& body = model.bodies()[e];
     H->block<10, 10>(10 * e, 10 * e) +=
-        body.map.ContractedHessian(x.segment<10>(10 * e), grad_w.segment<10>(10 * body.tree_body));
+        body.map.ContractedHessian(x.segment<10>(10 * e), grad_w.segment<10>(10 * body.block));
   }
   for (const EffectTerm& t : model.effects()) {
     const int p = t.first_parameter, f = t.first_feature;
@@ -237,18 +240,20 @@ void AddSecondOrderTerms(const RobotDynamics& model, const Eigen::VectorXd& x, c
   }
 }
 
-// Frozen bodies: zero gradient and a decoupled unit Hessian block, so every step leaves them.
-void FreezeBodies(const std::vector<bool>& frozen_bodies, int B, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
-  for (int e = 0; e < B; ++e) {
-    if (!IsFrozen(frozen_bodies, e)) continue;
-    g->segment<10>(10 * e).setZero();
-    H->middleRows(10 * e, 10).setZero();
-    H->middleCols(10 * e, 10).setZero();
-    H->block<10, 10>(10 * e, 10 * e).setIdentity();
-  }
-}
-
 }  // namespace
+
+void HoldParameters(const JointIdentificationOptions& options, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
+  auto hold = [&](int first, int count) {
+    g->segment(first, count).setZero();
+    H->middleRows(first, count).setZero();
+    H->middleCols(first, count).setZero();
+    H->block(first, first, count, count).setIdentity();
+  };
+  for (size_t e = 0; e < options.frozen_bodies.size(); ++e) {
+    if (options.frozen_bodies[e]) hold(10 * static_cast<int>(e), 10);
+  }
+  for (int p : options.held_parameters) hold(p, 1);
+}
 
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options) {
@@ -289,7 +294,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
         H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
       }
     }
-    if (derivatives) FreezeBodies(options.frozen_bodies, B, g, H);
+    if (derivatives) HoldParameters(options, g, H);
     *cost = 0.5 * (data_sq + gamma * reg);
     return std::isfinite(*cost);
   };

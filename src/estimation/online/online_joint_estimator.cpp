@@ -128,7 +128,7 @@ bool OnlineJointEstimator::Restore(const EstimatorState& state, std::string* why
 
 InertialParams OnlineJointEstimator::Body(int e) const {
   if (kind_ == EstimatorKind::kLinearRls) {
-    return InertialParams::FromVector(w_.segment<10>(10 * model_.bodies().at(e).tree_body));
+    return InertialParams::FromVector(w_.segment<10>(10 * model_.bodies().at(e).block));
   }
   return model_.BodyInertia(e, estimator_->parameters());
 }

@@ -61,9 +61,11 @@ GainProblem AccumulateGainProblem(const RobotDynamics& model, const JointSamples
                                   const std::vector<int>& gain_dofs);
 
 /// Why the torque scale is not fixed (every joint has a gain, nothing known in N m: no known
-/// torque, no frozen body), naming the joints and what would fix it; nullopt if it is fixed.
+/// torque, no frozen body, no body whose mass is held: its alpha among held_parameters, as
+/// JointIdentificationOptions), naming the joints and what would fix it; nullopt if it is fixed.
 std::optional<std::string> GainScaleProblem(const RobotDynamics& model, const Eigen::MatrixXd& known,
-                                            const std::vector<int>& gain_dofs, const std::vector<bool>& frozen_bodies);
+                                            const std::vector<int>& gain_dofs, const std::vector<bool>& frozen_bodies,
+                                            const std::vector<int>& held_parameters = {});
 
 struct GainIdentificationResult {
   JointIdentificationResult fit;  ///< of the eliminated problem: x of the model

@@ -55,6 +55,10 @@ struct JointIdentificationOptions {
   /// One flag per estimated body (model.bodies() order), or empty: a flagged body is held at its
   /// prior (theta = 0), e.g. links whose URDF inertias are trusted while payloads are fitted.
   std::vector<bool> frozen_bodies;
+  /// Entries of x held at their start value (indices), e.g. a payload's alpha: relative to its
+  /// prior, m = e^{2 alpha} m_prior (the last row of U is e^alpha [0 0 0 1]), so alpha held at 0
+  /// holds a known mass exactly while its COM and inertia are fitted.
+  std::vector<int> held_parameters;
   /// Start of the fit (size num_parameters), or empty for the default start below.
   Eigen::VectorXd initial;
 };
@@ -77,9 +81,14 @@ Eigen::VectorXd DefaultInitialParameters(const RobotDynamics& model, const Joint
 /// s = log(1e-300) (zero to double precision), spring q0 = 0: the URDF's own prediction.
 Eigen::VectorXd PriorParametersWithoutEffects(const RobotDynamics& model);
 
+/// Zeroes the gradient g and decouples the Hessian H (unit diagonal) of every parameter that
+/// options holds (frozen_bodies, held_parameters), so that no Levenberg-Marquardt step moves it.
+/// g and H may extend beyond x (further parameters after it).
+void HoldParameters(const JointIdentificationOptions& options, Eigen::VectorXd* g, Eigen::MatrixXd* H);
+
 /// Fits from options.initial, or from DefaultInitialParameters.
-/// @throws std::invalid_argument if the statistics, the start or frozen_bodies do not match the
-/// model, or the prior weight is negative or not finite.
+/// @throws std::invalid_argument if the statistics, the start, frozen_bodies or held_parameters do
+/// not match the model, or the prior weight is negative or not finite.
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options = {});
 
