@@ -443,6 +443,14 @@ TEST(IdentifyCli, SeveralRunsOneWithAKnownPayload) {
   const testing::CliRun stranger = identify({"--run-payload", "other.csv=shank:mass=1:com=0,0,0"});
   EXPECT_EQ(stranger.exit_code, 2) << Describe(stranger);
   EXPECT_TRUE(Contains(stranger.err, "'other.csv' is not one of the --data files")) << stranger.err;
+  // A payload to be fitted on a link that no run shows without it, or a run given twice.
+  const testing::CliRun alone = RunCli({"identify", "--model", testing::Example("leg3.urdf"), "--data", pb.string(),
+                                        "--run-payload", pb.string() + "=shank:mass=2.2"});
+  EXPECT_EQ(alone.exit_code, 2) << Describe(alone);
+  EXPECT_TRUE(Contains(alone.err, "nothing tells the payload from the link")) << alone.err;
+  const testing::CliRun twice = identify({"--data", pb.string(), "--run-payload", pb.string() + "=shank:mass=2.2"});
+  EXPECT_EQ(twice.exit_code, 2) << Describe(twice);
+  EXPECT_TRUE(Contains(twice.err, "is given more than once as --data")) << twice.err;
   const testing::CliRun no_mass = identify({"--run-payload", pb.string() + "=shank:com=0,0,0"});
   EXPECT_EQ(no_mass.exit_code, 2) << Describe(no_mass);
   EXPECT_TRUE(Contains(no_mass.err, "a COM without a mass")) << no_mass.err;

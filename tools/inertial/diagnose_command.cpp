@@ -340,7 +340,7 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   payload_fit.effects = effects;
   payload_fit.options = options.fit;
   payload_fit.hold_links = c.hold_links;
-  payload_fit.share = c.validate.empty() ? 1.0 - holdout : 1.0;
+  payload_fit.holdout = c.validate.empty() ? holdout : 0.0;
   status = ReadRobotLogs(c, robot, gravity, csv, holdout, make({}), payload_fit, &train, &validation, &source,
                          &held_runs);
   if (status != kOk) return status;

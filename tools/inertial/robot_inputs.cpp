@@ -160,6 +160,9 @@ int ParseRunPayloads(const std::vector<std::string>& items, const std::vector<st
       if (std::find(files.begin(), files.end(), p.file) == files.end()) {
         throw std::invalid_argument("'" + p.file + "' is not one of the --data files (" + RunsName(files) + ")");
       }
+      if (std::count(files.begin(), files.end(), p.file) > 1) {
+        throw std::invalid_argument("'" + p.file + "' is given more than once as --data, so the payload's run is not one");
+      }
       std::vector<std::string> parts;
       std::string rest = item.substr(eq + 1);
       for (std::size_t at; (at = rest.find(':')) != std::string::npos; rest = rest.substr(at + 1)) parts.push_back(rest.substr(0, at));

@@ -50,7 +50,9 @@ struct RunPayloadFit {
   /// validate: every effect held at these stated values and the links at the model's, so that only
   /// the payload is fitted; empty: the effects fitted with the payload.
   std::optional<std::vector<ModelEffect>> stated_effects;
-  double share = 1.0;                    ///< the first share of each run's duration fitted (diagnose: 1 - holdout)
+  /// The last share of each run's duration left out of the fit (diagnose: its held-out share, split
+  /// as SplitRunsHoldout splits it); 0: every sample.
+  double holdout = 0.0;
 };
 
 /// Parses --run-payload items against the --data files. kUsage naming the item and what is wrong

@@ -162,18 +162,38 @@ TEST(RunLocalBodies, WithEveryJointLoggedWithAGainTheStatedMassFixesTheScale) {
   EXPECT_NEAR(m.BodyInertia(3, r.fit.x).mass(), 2.0, 1e-12);
 }
 
-TEST(RunLocalBodies, OneRunOfEveryBodyIsTheUsualStatistics) {
+// The gain problem's statistics (gain_identification.hpp) of two runs, the knee logged with a gain
+// and the box's block zeroed in the first run, against sums over the samples.
+TEST(RunLocalBodies, GainStatisticsAreThoseOfTheRegressorZeroedOutsideTheRun) {
   const RobotDynamics m = Leg(true);
   const TwoRuns& r = Runs();
-  const Eigen::MatrixXd k = Eigen::MatrixXd::Zero(r.runs[1].size(), 3);
-  const GainProblem one = AccumulateRunGainProblem(m, {r.runs[1]}, {k}, {1}, {-1, -1, -1, -1});
-  const GainProblem direct = AccumulateGainProblem(m, r.runs[1], k, {1});
-  EXPECT_EQ((one.links.AtA - direct.links.AtA).norm(), 0.0);
-  EXPECT_EQ((one.Aty[0] - direct.Aty[0]).norm(), 0.0);
-  GainProblem twice = one;
-  AddStatistics(direct, &twice);
-  EXPECT_LT((twice.links.AtA - 2.0 * direct.links.AtA).norm(), 1e-12 * direct.links.AtA.norm());
-  EXPECT_NEAR(twice.yty[0], 2.0 * direct.yty[0], 1e-12 * direct.yty[0]);
+  std::vector<Eigen::MatrixXd> known;
+  for (const JointSamples& d : r.runs) known.push_back(0.1 * d.tau);  // any known torque
+  const GainProblem p = AccumulateRunGainProblem(m, r.runs, known, {2}, {-1, -1, -1, 1});
+  const int F = m.num_features();
+  Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(F, F), A(3, F);
+  Eigen::VectorXd Atb = Eigen::VectorXd::Zero(F), Aty = Eigen::VectorXd::Zero(F), Atp = Eigen::VectorXd::Zero(F);
+  double yty = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    const JointSamples& d = r.runs[static_cast<size_t>(k)];
+    for (int i = 0; i < d.size(); ++i) {
+      m.Features(d.q.row(i).transpose(), d.qd.row(i).transpose(), d.qdd.row(i).transpose(), A);
+      if (k == 0) A.middleCols<10>(30).setZero();
+      Eigen::Vector3d b = d.tau.row(i).transpose() - known[static_cast<size_t>(k)].row(i).transpose();
+      b[2] = -known[static_cast<size_t>(k)](i, 2);  // the gain joint's b: minus the known torque
+      AtA += A.transpose() * A;
+      Atb += A.transpose() * b;
+      Aty += A.row(2).transpose() * d.tau(i, 2);
+      Atp += A.row(2).transpose() * known[static_cast<size_t>(k)](i, 2);
+      yty += d.tau(i, 2) * d.tau(i, 2);
+    }
+  }
+  EXPECT_LT((p.links.AtA - AtA).norm(), 1e-11 * AtA.norm());
+  EXPECT_LT((p.links.Atb - Atb).norm(), 1e-11 * Atb.norm());
+  EXPECT_LT((p.Aty[0] - Aty).norm(), 1e-11 * Aty.norm());
+  EXPECT_LT((p.known[2].Atb - Atp).norm(), 1e-11 * Atp.norm());
+  EXPECT_NEAR(p.yty[0], yty, 1e-11 * yty);
+  EXPECT_EQ(p.Aty[0].segment<10>(30).norm() > 0.0, true);  // the box's run is in it
 }
 
 }  // namespace
