@@ -20,6 +20,8 @@ packages=(
   libtinyxml2-dev           # tinyxml2: writing URDF back with identified inertias
   liblcm-dev liblcm-bin     # LCM: messages, inertiald, log replay; lcm-gen, lcm-logger
   libyaml-cpp-dev           # yaml-cpp: motors.yaml of the CAN motor drivers
+  pybind11-dev python3-dev  # pybind11: the Python module `inertial` (python/), NumPy arrays in and out
+  python3-numpy             # NumPy: the arrays the Python module takes and returns
   # Found when the tree is configured (the tests and benchmarks are part of it), small:
   googletest libgtest-dev   # GoogleTest: the test suite
   libbenchmark-dev          # Google Benchmark: bench/
@@ -33,6 +35,8 @@ for group in "$@"; do
         chromium            # headless Chromium: the test that the diagnose report renders
         iproute2            # ip: the multicast end-to-end test sets up its own network namespace
         can-utils           # log2asc, log2long: cross-checks of the candump parser, tests only
+        python3-pytest      # pytest: the Python module's tests
+        python3-matplotlib  # matplotlib: the Python example's figures (examples/python/)
       ) ;;&
     --sanitizers)
       packages+=(clang libclang-rt-14-dev)  # libFuzzer and the ASan/UBSan runtimes (checks only)

@@ -1,8 +1,10 @@
 #include "inertial/report/online_estimate_text.hpp"
 
+#include <cmath>
 #include <optional>
 #include <sstream>
 
+#include "inertial/report/identification_report.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 
 namespace inertial {
@@ -22,6 +24,37 @@ std::string OnlineEstimateText(const OnlineJointEstimator& estimator) {
     }
   }
   return out.str();
+}
+
+nlohmann::json OnlineEstimateJson(const OnlineJointEstimator& estimator) {
+  const RobotDynamics& model = estimator.model();
+  nlohmann::json j = {{"estimator", std::string(ToString(estimator.kind()))}};
+  if (estimator.kind() == EstimatorKind::kLinearRls) return j;  // no per-body parameters
+  const Eigen::VectorXd& x = estimator.estimator().parameters();
+  j["bodies"] = BodiesJson(model, x);
+  j["effects"] = EffectsJson(model, x);
+  if (const std::optional<ModelUncertainty> u = FromOnlineEstimator(estimator)) {
+    j["uncertainty_source"] = u->source;
+    for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+      j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(u->bodies[e], u->held.empty() ? nullptr : &u->held[e]);
+    }
+    for (int k = 0; k < static_cast<int>(model.effects().size()) && k < static_cast<int>(u->effects.size()); ++k) {
+      const std::vector<std::string> names = EffectValueNames(model.effects()[k].kind);
+      nlohmann::json stds = nlohmann::json::object();
+      for (std::size_t i = 0; i < names.size() && i < u->effects[k].size(); ++i) {
+        const double sd = u->effects[k][i];
+        stds[names[i]] = std::isfinite(sd) ? nlohmann::json(sd) : nlohmann::json("inf");
+      }
+      j["effects"][k]["std"] = stds;
+    }
+  }
+  if (const OnlineFit* fit = estimator.fit()) {
+    nlohmann::json noise = nlohmann::json::object();
+    for (int k = 0; k < model.num_dofs(); ++k) noise[model.dof_names()[k]] = fit->noise()[k];
+    j["noise"] = noise;
+    j["solves"] = fit->solves();
+  }
+  return j;
 }
 
 }  // namespace inertial

@@ -126,39 +126,6 @@ int CheckMotorsFitModel(const ReplayCommand& c, const ReplayOptions& options, co
 
 // The log through the estimator; with `diagnosis`, each accepted sample and the estimator's residual
 // before its update go to it (a detected change restarts its statistics); payload events into *events.
-// The final estimate for --json: the bodies (mass, COM, inertia; with the standard deviations and
-// "held by the prior" where the estimator has them) and the effect coefficients, as identify's
-// JSON gives them; with the online fit, its per-joint noise.
-nlohmann::json FinalEstimateJson(const OnlineJointEstimator& estimator) {
-  const RobotDynamics& model = estimator.model();
-  nlohmann::json j = {{"estimator", std::string(ToString(estimator.kind()))}};
-  if (estimator.kind() == EstimatorKind::kLinearRls) return j;  // no per-body parameters
-  const Eigen::VectorXd& x = estimator.estimator().parameters();
-  j["bodies"] = BodiesJson(model, x);
-  j["effects"] = EffectsJson(model, x);
-  if (const std::optional<ModelUncertainty> u = FromOnlineEstimator(estimator)) {
-    j["uncertainty_source"] = u->source;
-    for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-      j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(u->bodies[e], u->held.empty() ? nullptr : &u->held[e]);
-    }
-    for (int k = 0; k < static_cast<int>(model.effects().size()) && k < static_cast<int>(u->effects.size()); ++k) {
-      const std::vector<std::string> names = EffectValueNames(model.effects()[k].kind);
-      nlohmann::json stds = nlohmann::json::object();
-      for (std::size_t i = 0; i < names.size() && i < u->effects[k].size(); ++i) {
-        const double sd = u->effects[k][i];
-        stds[names[i]] = std::isfinite(sd) ? nlohmann::json(sd) : nlohmann::json("inf");
-      }
-      j["effects"][k]["std"] = stds;
-    }
-  }
-  if (const OnlineFit* fit = estimator.fit()) {
-    nlohmann::json noise = nlohmann::json::object();
-    for (int k = 0; k < model.num_dofs(); ++k) noise[model.dof_names()[k]] = fit->noise()[k];
-    j["noise"] = noise;
-    j["solves"] = fit->solves();
-  }
-  return j;
-}
 
 int Replay(const std::string& path, OnlineJointEstimator* estimator, const ReplayOptions& options, ReplayResult* r,
            StreamDiagnosis* diagnosis, std::vector<PayloadEvent>* events) {
@@ -267,7 +234,7 @@ void PrintReplayJson(const std::string& path, const ReplayResult& r, const std::
     }
   }
   j["payload_events"] = events_json;
-  j["estimate"] = FinalEstimateJson(estimator);
+  j["estimate"] = OnlineEstimateJson(estimator);
   std::cout << j.dump(2) << "\n";
 }
 

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "inertial/estimation/online/online_joint_estimator.hpp"
 
 namespace inertial {
@@ -14,5 +16,11 @@ namespace inertial {
 /// estimator with a covariance "final estimate (+- one standard deviation <source>):\n" then
 /// "  <body>: <BodyUncertaintyText>\n". Numbers as an ostream prints them (6 significant digits).
 std::string OnlineEstimateText(const OnlineJointEstimator& estimator);
+
+/// The same estimate as JSON (`replay --json`'s "final", the Python module's estimate()): the
+/// estimator's name; the bodies (mass, COM, inertia; with standard deviations and "held by the prior"
+/// where the estimator has them) and the effect coefficients, as identify's JSON gives them; with the
+/// online fit, its per-joint noise and its number of solves.
+nlohmann::json OnlineEstimateJson(const OnlineJointEstimator& estimator);
 
 }  // namespace inertial
