@@ -2,6 +2,18 @@
 
 namespace inertial::python {
 
+bool IsPath(const py::object& o) {
+  return py::isinstance<py::str>(o) || py::hasattr(o, "__fspath__");
+}
+
+std::string PathOf(const py::object& path, const std::string& what) {
+  if (!IsPath(path)) throw py::type_error(what + ": expected a path (str or os.PathLike)");
+  const std::string s = py::module_::import("os").attr("fspath")(path).cast<std::string>();
+  if (s.empty()) throw py::value_error(what + ": the path is empty");
+  if (s.find('\0') != std::string::npos) throw py::value_error(what + ": the path holds a NUL character");
+  return s;
+}
+
 std::string ShapeText(const Array& a) {
   std::string s = "(";
   for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d > 0 ? ", " : "") + std::to_string(a.shape(d));

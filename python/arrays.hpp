@@ -17,6 +17,12 @@ namespace py = pybind11;
 /// Any array-like of numbers, as a C-contiguous array of doubles (a copy only if it is not one).
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+/// A file path from a str or any os.PathLike (pathlib.Path); ValueError naming `what` for an
+/// empty path or one with a NUL character, TypeError for anything else.
+std::string PathOf(const py::object& path, const std::string& what);
+/// Whether `o` is a path (str or os.PathLike) rather than, say, a dict of arrays.
+bool IsPath(const py::object& o);
+
 /// "(3,)", "(2, 4)".
 std::string ShapeText(const Array& a);
 

@@ -20,9 +20,9 @@ namespace {
 // A log: a CSV path (read and differentiated as the CLI reads --data) or a dict of arrays t (N),
 // q, qd, qdd, tau (N x n).
 JointSamples SamplesOf(const Robot& r, const py::object& data, const std::string& what) {
-  if (py::isinstance<py::str>(data)) {
+  if (IsPath(data)) {
     try {
-      return ReadJointLog(data.cast<std::string>(), r.model.dof_names);
+      return ReadJointLog(PathOf(data, what), r.model.dof_names);
     } catch (const CsvError& e) {
       throw py::value_error(e.what());
     }
@@ -37,13 +37,19 @@ JointSamples SamplesOf(const Robot& r, const py::object& data, const std::string
   for (const char* key : {"t", "q", "qd", "qdd", "tau"}) {
     if (!d.contains(key)) throw py::value_error(what + ": no array '" + key + "' (t, q, qd, qdd, tau)");
   }
-  const Array t = d["t"].cast<Array>();
+  const auto checked = [&](const char* key) {
+    // A view where the array is float64 and C-ordered, else a converted copy; null if not numbers.
+    Array a = Array::ensure(py::object(d[key]));
+    if (!a) throw py::value_error(what + "['" + key + "']: not an array of numbers");
+    return a;
+  };
+  const Array t = checked("t");
   if (t.ndim() != 1) throw py::value_error(what + "['t']: expected shape (N,), got " + ShapeText(t));
   s.t = VectorOf(t, t.shape(0), what + "['t']");
-  s.q = MatrixOf(d["q"].cast<Array>(), s.size(), n, what + "['q']");
-  s.qd = MatrixOf(d["qd"].cast<Array>(), s.size(), n, what + "['qd']");
-  s.qdd = MatrixOf(d["qdd"].cast<Array>(), s.size(), n, what + "['qdd']");
-  s.tau = MatrixOf(d["tau"].cast<Array>(), s.size(), n, what + "['tau']");
+  s.q = MatrixOf(checked("q"), s.size(), n, what + "['q']");
+  s.qd = MatrixOf(checked("qd"), s.size(), n, what + "['qd']");
+  s.qdd = MatrixOf(checked("qdd"), s.size(), n, what + "['qdd']");
+  s.tau = MatrixOf(checked("tau"), s.size(), n, what + "['tau']");
   for (int i = 1; i < s.size(); ++i) {
     if (!(s.t[i] > s.t[i - 1])) {
       throw py::value_error(what + "['t']: time must increase strictly (row " + std::to_string(i) + ": " +
@@ -69,6 +75,9 @@ py::dict Diagnose(const Robot& robot, const py::object& data, const py::object& 
   } else {
     train = SamplesOf(robot, data, "data");
     validation = SamplesOf(robot, validate, "validate");
+  }
+  if (!(min_explained > 0.0 && min_explained <= 1.0)) {
+    throw py::value_error("min_explained: must be in (0, 1], the share of the held-out error an effect must explain");
   }
   JointDiagnosisOptions options;
   options.min_explained = min_explained;
@@ -99,7 +108,7 @@ py::dict Validate(const Robot& robot, const py::object& data, const std::optiona
       v.model_source += (&e == &robot.model.effects.front() ? " with " : ", ") + std::string(ToString(e.spec.kind)) +
                         "@" + e.spec.target;
     }
-    v.data_source = py::isinstance<py::str>(data) ? data.cast<std::string>() : std::string("arrays");
+    v.data_source = IsPath(data) ? PathOf(data, "data") : std::string("arrays");
     return ToPython(ValidationJson(v));
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());

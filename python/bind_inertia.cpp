@@ -27,13 +27,19 @@ constexpr const char* kPiOrder =
     "pi = [m, hx, hy, hz, Ixx, Iyy, Izz, Ixy, Iyz, Ixz]: mass [kg], first moment h = m c [kg m] and rotational "
     "inertia about the frame origin [kg m^2]";
 
+// pi of a map, refused where it overflows (as `inertial convert` refuses it).
+Eigen::VectorXd FinitePi(const Vector10& pi) {
+  if (!pi.allFinite()) throw py::value_error("theta gives a body beyond the range of double precision (e^{2 alpha} or a product overflows)");
+  return pi;
+}
+
 }  // namespace
 
 void BindInertia(py::module_& m) {
   m.def(
       "log_cholesky",
       [](const Array& theta, const std::optional<Array>& reference) {
-        return Eigen::VectorXd(MapOf(reference).ToPi(VectorOf(theta, 10, "theta")));
+        return FinitePi(MapOf(reference).ToPi(VectorOf(theta, 10, "theta")));
       },
       py::arg("theta"), py::arg("reference") = py::none(),
       (std::string("The inertial parameters pi (10) of log-Cholesky coordinates theta = [alpha, d1, d2, d3, s12, s23, "
@@ -45,7 +51,7 @@ void BindInertia(py::module_& m) {
       "log_cholesky_jacobian",
       [](const Array& theta, const std::optional<Array>& reference) {
         Matrix10 J;
-        MapOf(reference).ToPi(VectorOf(theta, 10, "theta"), &J);
+        FinitePi(MapOf(reference).ToPi(VectorOf(theta, 10, "theta"), &J));
         return Eigen::MatrixXd(J);
       },
       py::arg("theta"), py::arg("reference") = py::none(),
@@ -68,6 +74,9 @@ void BindInertia(py::module_& m) {
         const Eigen::VectorXd c = VectorOf(com, 3, "com");
         const Matrix3 I = MatrixOf(inertia, 3, 3, "inertia");
         if (!std::isfinite(mass)) throw py::value_error("mass: not finite");
+        if (!I.isApprox(I.transpose(), 1e-12) && (I - I.transpose()).norm() > 1e-300) {
+          throw py::value_error("inertia: not symmetric (Ixy = I[0, 1] = I[1, 0], and so on)");
+        }
         return Eigen::VectorXd(InertialParams::FromMassComInertia(mass, c, I).vector());
       },
       py::arg("mass"), py::arg("com"), py::arg("inertia"),
@@ -80,7 +89,12 @@ void BindInertia(py::module_& m) {
       [](const Array& pi) {
         const InertialParams b = BodyOf(pi, "pi");
         if (!(b.mass() != 0.0)) throw py::value_error("pi: the mass is zero, so the body has no centre of mass");
-        return py::make_tuple(b.mass(), Eigen::VectorXd(b.com()), Eigen::MatrixXd(b.rotational_inertia_about_com()));
+        const Vector3 c = b.com();
+        const Matrix3 I = b.rotational_inertia_about_com();
+        if (!c.allFinite() || !I.allFinite()) {
+          throw py::value_error("pi: the centre of mass is beyond the range of double precision (mass near zero)");
+        }
+        return py::make_tuple(b.mass(), Eigen::VectorXd(c), Eigen::MatrixXd(I));
       },
       py::arg("pi"), "(mass [kg], com [m] (3), rotational inertia about the COM [kg m^2] (3 x 3)) of pi.");
   m.def(

@@ -3,6 +3,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <memory>
 
 #include "arrays.hpp"
@@ -21,12 +22,14 @@ namespace {
 class OnlineEstimator {
  public:
   OnlineEstimator(const Robot& robot, const std::string& kind, double accel_cutoff_hz, double residual_window_s)
-      : estimator_(robot.dynamics, Eigen::VectorXd::Zero(robot.dynamics.num_parameters()), Options(kind)),
+      : robot_(robot),
+        estimator_(robot.dynamics, Eigen::VectorXd::Zero(robot.dynamics.num_parameters()), Options(kind)),
         pipeline_(&estimator_, accel_cutoff_hz, residual_window_s),
         sample_(Sample::ForJoints(robot.dynamics.num_dofs())) {}
 
   std::string Update(double t, const Array& q, const Array& qd, const std::optional<Array>& qdd, const Array& tau) {
     const int n = estimator_.model().num_dofs();
+    if (!std::isfinite(t)) throw py::value_error("t: not finite (" + std::to_string(t) + ")");
     JointSample& s = sample_.joint;
     s.t = t;
     s.q = VectorOf(q, n, "q", false);  // NaN: refused by the pipeline, counted, as in inertiald
@@ -45,10 +48,10 @@ class OnlineEstimator {
     return d;
   }
 
-  Eigen::MatrixXd Predict(const Array& q, const Array& qd, const Array& qdd) const {
+  py::object Predict(const Array& q, const Array& qd, const Array& qdd) const {
     const RobotDynamics& m = estimator_.model();
     const int n = m.num_dofs();
-    const bool single = q.ndim() == 1;
+    const bool single = q.ndim() == 1;  // one state: (n,) out, as Robot.inverse_dynamics
     const Eigen::MatrixXd Q = single ? Eigen::MatrixXd(VectorOf(q, n, "q").transpose()) : MatrixOf(q, -1, n, "q");
     const Eigen::MatrixXd Qd = single ? Eigen::MatrixXd(VectorOf(qd, n, "qd").transpose()) : MatrixOf(qd, Q.rows(), n, "qd");
     const Eigen::MatrixXd Qdd =
@@ -58,7 +61,7 @@ class OnlineEstimator {
       tau.row(i) = m.InverseDynamicsFromCoefficients(estimator_.coefficients(), Q.row(i).transpose(),
                                                      Qd.row(i).transpose(), Qdd.row(i).transpose()).transpose();
     }
-    return tau;
+    return single ? py::cast(Eigen::VectorXd(tau.row(0).transpose())) : py::cast(tau);
   }
 
   py::dict Counters() const {
@@ -73,14 +76,21 @@ class OnlineEstimator {
   void Finish() { pipeline_.Solve(true); }
 
   // A checkpoint as inertiald writes one (--checkpoint), and back.
-  void Save(const std::string& path) const {
+  void Save(const py::object& where) const {
+    const std::string path = PathOf(where, "path");
+    RefuseInput(path);
     try {
       SaveEstimatorState(path, pipeline_.estimator().State(), CheckpointDescription(estimator_));
     } catch (const std::exception& e) {
       throw py::value_error(e.what());
     }
   }
-  void Restore(const std::string& path) {
+  void Restore(const py::object& where) {
+    const std::string path = PathOf(where, "path");
+    if (pipeline_.counters().received > 0) {
+      throw py::value_error("restore into a new OnlineEstimator: this one has seen " +
+                            std::to_string(pipeline_.counters().received) + " samples");
+    }
     std::string description, why;
     EstimatorState state;
     try {
@@ -94,11 +104,19 @@ class OnlineEstimator {
     if (!estimator_.Restore(state, &why)) throw py::value_error("'" + path + "' cannot be restored: " + why);
   }
 
-  void WriteUrdf(const Robot& robot, const std::string& path) const {
-    robot.WriteUrdf(estimator_.estimator().parameters(), path, "estimated online (Python)");
+  void WriteUrdf(const py::object& path) const {
+    robot_.WriteUrdf(estimator_.estimator().parameters(), PathOf(path, "path"), "estimated online (Python)");
   }
 
  private:
+  // No output overwrites an input: the robot's URDF.
+  void RefuseInput(const std::string& path) const {
+    std::error_code ec;
+    if (std::filesystem::equivalent(path, robot_.urdf, ec)) {
+      throw py::value_error("'" + path + "' is the robot's own URDF: write elsewhere (no output overwrites an input)");
+    }
+  }
+
   static OnlineEstimatorOptions Options(const std::string& kind) {
     OnlineEstimatorOptions o;
     try {
@@ -109,13 +127,15 @@ class OnlineEstimator {
     return o;
   }
 
+  Robot robot_;  // its URDF and model (write_urdf)
   OnlineJointEstimator estimator_;
   SamplePipeline pipeline_;
   Sample sample_;
 };
 
 // A whole log through a new estimator, as `inertial replay` does: the estimate and the counts.
-py::dict Replay(const Robot& robot, const std::string& log, const std::string& kind) {
+py::dict Replay(const Robot& robot, const py::object& where, const std::string& kind) {
+  const std::string log = PathOf(where, "log");
   OnlineEstimatorOptions o;
   try {
     o.kind = ParseEstimatorKind(kind);
@@ -167,13 +187,15 @@ void BindOnline(py::module_& m) {
            "The current estimate: bodies (mass, COM, inertia about the COM, with standard deviations where the "
            "estimator keeps them) and effect coefficients, as `replay --json`'s estimate; x, the parameters.")
       .def("predict", &OnlineEstimator::Predict, py::arg("q"), py::arg("qd"), py::arg("qdd"),
-           "Torques the current estimate predicts at states (N x n, or one state: 1 x n).")
+           "Torques [N m or N] the current estimate predicts: (n,) at one state (q, qd, qdd of shape (n,)), (N, n) "
+           "at N.")
       .def("counters", &OnlineEstimator::Counters, "Samples received, accepted and buffered so far.")
       .def("save", &OnlineEstimator::Save, py::arg("path"),
            "Writes the estimator's state as inertiald's --checkpoint does (JSON).")
       .def("restore", &OnlineEstimator::Restore, py::arg("path"),
-           "Restores a state save() (or inertiald) wrote for the same model and estimator; ValueError saying why not.")
-      .def("write_urdf", &OnlineEstimator::WriteUrdf, py::arg("robot"), py::arg("path"),
+           "Restores, into a new estimator, a state save() (or inertiald) wrote for the same model and estimator; "
+           "ValueError saying why not.")
+      .def("write_urdf", &OnlineEstimator::WriteUrdf, py::arg("path"),
            "Writes the current estimate as a model file (the robot's URDF with its bodies and effects), as "
            "`identify --write-urdf` does; `validate --model` reads it back.")
       .def("finish", &OnlineEstimator::Finish,

@@ -27,6 +27,9 @@ Robot Robot::FromUrdf(const std::string& path, const std::string& effects_text, 
   } catch (const UrdfError& e) {
     throw py::value_error(e.what());
   }
+  if (model.dof_names.empty()) {
+    throw py::value_error("'" + path + "' has no moving joint, so its joints' torques show nothing to identify");
+  }
   std::vector<EffectSpec> effects = MergeEffects(model.DeclaredEffects(), extra);
   try {
     RobotDynamics dynamics = MakeRobotDynamics(model, effects, gravity);
@@ -75,6 +78,15 @@ Eigen::VectorXd ParametersOf(const Robot& r, const std::optional<Array>& x) {
   return PriorParametersWithoutEffects(r.dynamics);
 }
 
+// w(x), refused where it overflows (a theta or log-coefficient too large for a double).
+Eigen::VectorXd CoefficientsOf(const Robot& r, const Eigen::VectorXd& x) {
+  const Eigen::VectorXd w = r.dynamics.Coefficients(x);
+  if (!w.allFinite()) {
+    throw py::value_error("x: gives coefficients beyond the range of double precision (e^{2 alpha} or e^s overflows)");
+  }
+  return w;
+}
+
 // The robot at x tracking a random Fourier excitation, as `inertial simulate` does (its limits kept,
 // computed-torque control at 5 Hz, RK4); a dict of arrays t, q, qd, qdd, tau.
 py::dict Simulate(const Robot& r, const std::optional<Array>& x_in, double duration, double rate, int seed,
@@ -82,7 +94,7 @@ py::dict Simulate(const Robot& r, const std::optional<Array>& x_in, double durat
   if (!(duration > 0) || !(rate > 0) || !std::isfinite(duration) || !std::isfinite(rate)) {
     throw py::value_error("duration and rate: must be positive");
   }
-  const Eigen::VectorXd w = r.dynamics.Coefficients(ParametersOf(r, x_in));
+  const Eigen::VectorXd w = CoefficientsOf(r, ParametersOf(r, x_in));
   FourierTrajectory reference = RandomFourierTrajectory(r.dynamics.num_dofs(), 5, 0.1, amplitude, seed);
   const int n = static_cast<int>(std::floor(duration * rate + 1e-9)) + 1;
   const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(n, 0.0, (n - 1) / rate);
@@ -124,8 +136,8 @@ void BindRobot(py::module_& m) {
                     "--model and --effects load them. SI units; joints in joint_names order.")
       .def_static(
           "from_urdf",
-          [](const std::string& path, const std::string& effects, const Array& gravity) {
-            return Robot::FromUrdf(path, effects, VectorOf(gravity, 3, "gravity"));
+          [](const py::object& path, const std::string& effects, const Array& gravity) {
+            return Robot::FromUrdf(PathOf(path, "path"), effects, VectorOf(gravity, 3, "gravity"));
           },
           py::arg("path"), py::arg("effects") = "", py::arg("gravity") = Eigen::Vector3d(0, 0, -9.81),
           "Loads a URDF; effects as the CLI's --effects (e.g. 'viscous,coulomb@knee,payload@tool0:mass=2'), gravity "
@@ -147,7 +159,7 @@ void BindRobot(py::module_& m) {
       .def("prior_parameters", [](const Robot& r) { return Eigen::VectorXd(PriorParametersWithoutEffects(r.dynamics)); },
            "x of the URDF as it is: every body at its prior, every effect coefficient zero.")
       .def("coefficients", [](const Robot& r, const Array& x) {
-        return r.dynamics.Coefficients(VectorOf(x, r.dynamics.num_parameters(), "x"));
+        return CoefficientsOf(r, VectorOf(x, r.dynamics.num_parameters(), "x"));
       }, py::arg("x"), "w(x): each body's pi (10) and the effect coefficients, the columns of the regressor's order.")
       .def(
           "regressor",
@@ -172,7 +184,7 @@ void BindRobot(py::module_& m) {
           "inverse_dynamics",
           [](const Robot& r, const Array& q, const Array& qd, const Array& qdd, const std::optional<Array>& x) {
             const States s = StatesOf(r, q, qd, qdd);
-            const Eigen::VectorXd w = r.dynamics.Coefficients(ParametersOf(r, x));
+            const Eigen::VectorXd w = CoefficientsOf(r, ParametersOf(r, x));
             Eigen::MatrixXd tau(s.q.rows(), r.dynamics.num_dofs());
             for (Eigen::Index i = 0; i < s.q.rows(); ++i) {
               tau.row(i) = r.dynamics.InverseDynamicsFromCoefficients(w, s.q.row(i).transpose(), s.qd.row(i).transpose(),
@@ -185,8 +197,8 @@ void BindRobot(py::module_& m) {
           "(n,) for one state, (N, n) for N.")
       .def(
           "write_urdf",
-          [](const Robot& r, const Array& x, const std::string& path) {
-            r.WriteUrdf(VectorOf(x, r.dynamics.num_parameters(), "x"), path, "identified (Python)");
+          [](const Robot& r, const Array& x, const py::object& path) {
+            r.WriteUrdf(VectorOf(x, r.dynamics.num_parameters(), "x"), PathOf(path, "path"), "identified (Python)");
           },
           py::arg("x"), py::arg("path"),
           "Writes the model at x (e.g. identify()['x']) as a model file: the URDF with the identified inertias and "

@@ -30,7 +30,7 @@ def test_identify_equals_the_cli(logs):
                          str(train), "--validate", str(test))
     assert without_timing(result) == without_timing(reference)
     assert result["x"].shape == (r.num_parameters,)
-    assert all(b["consistent"] for b in result["bodies"]) if "consistent" in result["bodies"][0] else True
+    assert all(b["physically_consistent"] for b in result["bodies"])
 
 
 def test_identify_on_arrays_is_identify_on_the_file(logs):
@@ -56,6 +56,9 @@ def test_bad_logs_raise_with_the_clis_message(tmp_path, logs):
     with pytest.raises(ValueError, match=r"data\['tau'\]: expected an array of shape \(3, 3\), got \(3, 2\)"):
         inertial.identify(r, {"t": np.arange(3.0), "q": np.zeros((3, 3)), "qd": np.zeros((3, 3)),
                               "qdd": np.zeros((3, 3)), "tau": np.zeros((3, 2))})
+    with pytest.raises(ValueError, match=r"data\['t'\]: not an array of numbers"):
+        inertial.identify(r, {"t": ["a", "b", "c"], "q": np.zeros((3, 3)), "qd": np.zeros((3, 3)),
+                              "qdd": np.zeros((3, 3)), "tau": np.zeros((3, 3))})
     with pytest.raises(ValueError, match=r"data\['t'\]: time must increase strictly"):
         inertial.identify(r, {"t": np.array([0.0, 1.0, 1.0]), "q": np.zeros((3, 3)), "qd": np.zeros((3, 3)),
                               "qdd": np.zeros((3, 3)), "tau": np.zeros((3, 3))})

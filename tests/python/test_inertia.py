@@ -66,6 +66,14 @@ def test_bad_input_raises_naming_it():
         inertial.log_cholesky([1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match="theta: not every number is finite"):
         inertial.log_cholesky([np.nan] + [0.0] * 9)
+    huge = [400.0] + [0.0] * 9
+    with pytest.raises(ValueError) as raised:
+        inertial.log_cholesky(huge)
+    _, _, err = __import__("conftest").cli("convert", "--from", "theta", "--to", "pi", "--", *map(repr, huge),
+                                           check=False)
+    assert str(raised.value) in err, (str(raised.value), err)
+    with pytest.raises(ValueError, match="inertia: not symmetric"):
+        inertial.pi_from_mass_com_inertia(1.0, [0, 0, 0], np.arange(9.0).reshape(3, 3))
     rod = inertial.pi_from_mass_com_inertia(1.0, [0, 0, 0], np.diag([0.01, 0.01, 0.03]))
     with pytest.raises(ValueError) as raised:
         inertial.log_cholesky_inverse(rod)

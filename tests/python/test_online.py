@@ -57,7 +57,7 @@ def test_glitches_and_bad_shapes(log):
     robot = inertial.Robot.from_urdf(source("examples", "leg3.urdf"))
     est = inertial.OnlineEstimator(robot)
     z = np.zeros(3)
-    assert est.update(0.0, z, z, z, z) == "accepted" or True  # the first sample primes the pipeline
+    est.update(0.0, z, z, z, z)  # the first sample primes the pipeline, whatever it says
     refused = est.update(0.01, np.array([np.nan, 0, 0]), z, z, z)
     assert refused not in ("accepted", "held"), refused
     assert est.update(0.005, z, z, z, z) not in ("accepted", "held")  # out of order
@@ -66,13 +66,17 @@ def test_glitches_and_bad_shapes(log):
         est.update(0.02, z, z, z, np.zeros(2))
     with pytest.raises(ValueError, match="estimator: "):
         inertial.OnlineEstimator(robot, estimator="kalman_magic")
+    with pytest.raises(ValueError, match="t: not finite"):
+        est.update(np.nan, z, z, z, z)
+    assert est.update(0.03, z, z, z, z) not in ("out_of_order",)  # a refused time stamp changed nothing
+    assert est.predict(z, z, z).shape == (3,)
     assert np.isfinite(est.estimate()["x"]).all()
 
 
 def test_no_reference_leaks_over_many_updates(log):
     _, data = log
     robot = inertial.Robot.from_urdf(source("examples", "leg3.urdf"))
-    est = inertial.OnlineEstimator(robot, estimator="gradient")
+    est = inertial.OnlineEstimator(robot)  # gauss_newton: its solves run in update() when due
     q, qd, qdd, tau = (columns(data, k, robot.joint_names) for k in ("q", "qd", "qdd", "tau"))
     n, period = 100_000, len(data)
     dt = data["t"][1] - data["t"][0]
@@ -116,8 +120,12 @@ def test_save_restore_replay_and_the_model_file(log, tmp_path):
     assert replayed["accepted"] == whole.counters()["accepted"]
     # The estimate as a model file, judged by the CLI on the log: at the noise.
     model = tmp_path / "online.urdf"
-    whole.write_urdf(robot, str(model))
+    whole.write_urdf(model)  # a pathlib.Path
     judged = cli_json("validate", "--model", str(model), "--data", str(path))
     assert judged["rms"]["total"] == pytest.approx(0.02, rel=0.2)
     with pytest.raises(ValueError, match="own URDF"):
-        whole.write_urdf(robot, urdf)
+        whole.write_urdf(urdf)
+    with pytest.raises(ValueError, match="own URDF"):
+        whole.save(urdf)
+    with pytest.raises(ValueError, match="restore into a new OnlineEstimator"):
+        whole.restore(str(checkpoint))

@@ -63,8 +63,19 @@ def test_bad_input_raises_with_the_clis_message():
     _, _, err = cli("identify", "--model", source("examples", "leg3.urdf"), "--data", "x.csv", "--effects",
                     "viscous@nowhere", check=False)
     assert str(raised.value).split("effects: ", 1)[1] in err
+    with pytest.raises(ValueError, match="x: gives coefficients beyond the range of double precision"):
+        r.coefficients(np.full(r.num_parameters, 1e3))
     missing = source("examples", "no_such_robot.urdf")
     with pytest.raises(ValueError) as raised:
         inertial.Robot.from_urdf(missing)
     _, _, err = cli("identify", "--model", missing, "--data", "x.csv", check=False)
     assert str(raised.value) in err
+
+
+def test_a_robot_without_moving_joints_is_refused(tmp_path):
+    urdf = tmp_path / "fixed.urdf"
+    urdf.write_text('<robot name="r"><link name="base"/><link name="tool"><inertial><mass value="1"/>'
+                    '<inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+                    '<joint name="j" type="fixed"><parent link="base"/><child link="tool"/></joint></robot>')
+    with pytest.raises(ValueError, match="has no moving joint"):
+        inertial.Robot.from_urdf(urdf)
