@@ -478,13 +478,17 @@ TEST(IdentifyCli, SeveralRunsOneWithAKnownPayload) {
   const testing::CliRun v_fit = RunCli({"validate", "--model", urdf.string(), "--data", pa.string(), "--data",
                                         pb.string(), "--run-payload", mass_only, "--json"});
   ASSERT_EQ(v_fit.exit_code, 0) << Describe(v_fit);
-  for (const auto& run : nlohmann::json::parse(v_fit.out)["runs"]) {
+  const nlohmann::json v_fit_json = nlohmann::json::parse(v_fit.out);  // named: a range-for over a temporary's member dangles
+  ASSERT_EQ(v_fit_json["runs"].size(), 2u);
+  for (const auto& run : v_fit_json["runs"]) {
     EXPECT_LT(run["rms"]["total"].get<double>(), 1.1 * sigma) << run["run"];
   }
   const testing::CliRun d_fit = RunCli({"diagnose", "--model", testing::Example("leg3.urdf"), "--data", pa.string(),
                                         "--data", pb.string(), "--run-payload", mass_only, "--json"});
   ASSERT_EQ(d_fit.exit_code, 0) << Describe(d_fit);
-  for (const auto& run : nlohmann::json::parse(d_fit.out)["runs"]) {
+  const nlohmann::json d_fit_json = nlohmann::json::parse(d_fit.out);
+  ASSERT_EQ(d_fit_json["runs"].size(), 2u);
+  for (const auto& run : d_fit_json["runs"]) {
     EXPECT_LT(run["rms"]["total"].get<double>(), 1.15 * sigma) << run["run"];
   }
 }
