@@ -16,7 +16,8 @@ std::string What(bool velocities, bool accelerations) {
 }
 
 // The sentence on the gaps cut at: their number, the longest and where.
-std::string GapNotice(const Eigen::VectorXd& t, const std::vector<int>& starts, double median, const std::string& what) {
+std::string GapNotice(const Eigen::VectorXd& t, const std::vector<int>& starts, double median, double limit,
+                      const std::string& what) {
   int longest = starts.front();
   for (int s : starts) {
     if (t[s] - t[s - 1] > t[longest] - t[longest - 1]) longest = s;
@@ -24,7 +25,7 @@ std::string GapNotice(const Eigen::VectorXd& t, const std::vector<int>& starts, 
   const double gap = t[longest] - t[longest - 1];
   const std::string n = std::to_string(starts.size());
   return (starts.size() == 1 ? "a gap of " + FormatNumber(gap, 4) + " s"
-                             : n + " gaps longer than " + FormatNumber(kGapMedianSteps, 2) + " median steps (the longest " +
+                             : n + " gaps longer than " + FormatNumber(limit, 4) + " s (the longest " +
                                    FormatNumber(gap, 4) + " s)") +
          " after t = " + FormatNumber(t[longest - 1], 10) + " s (" + FormatNumber(gap / median, 3) + " median steps of " +
          FormatNumber(median, 4) + " s): " + what + " are derived in " + std::to_string(starts.size() + 1) +
@@ -47,10 +48,14 @@ void DerivePiece(const JointSamples& log, int begin, int end, const SavitzkyGola
 
 }  // namespace
 
-std::vector<int> GapStarts(const Eigen::VectorXd& t) {
+double GapLimit(const Eigen::VectorXd& t, const SavitzkyGolayOptions& options) {
+  return std::max(kGapMedianSteps * MedianStep(t), 0.5 * options.window);
+}
+
+std::vector<int> GapStarts(const Eigen::VectorXd& t, const SavitzkyGolayOptions& options) {
   std::vector<int> starts;
   if (t.size() < 4) return starts;
-  const double limit = kGapMedianSteps * MedianStep(t);
+  const double limit = GapLimit(t, options);
   for (Eigen::Index i = 1; i < t.size(); ++i) {
     if (t[i] - t[i - 1] > limit) starts.push_back(static_cast<int>(i));
   }
@@ -61,7 +66,7 @@ LogDerivation DeriveFromPositions(JointSamples* log, bool velocities, bool accel
   LogDerivation d;
   if (!velocities && !accelerations) return d;
   const std::string what = What(velocities, accelerations);
-  const std::vector<int> gaps = GapStarts(log->t);
+  const std::vector<int> gaps = GapStarts(log->t, options);
   std::vector<int> bounds{0};
   bounds.insert(bounds.end(), gaps.begin(), gaps.end());
   bounds.push_back(log->size());
@@ -102,7 +107,7 @@ LogDerivation DeriveFromPositions(JointSamples* log, bool velocities, bool accel
   if (accelerations) log->qdd = std::move(sg.second);
   d.notices.push_back(what + " derived from q by Savitzky-Golay (order " + std::to_string(options.order) + ", window " +
                       FormatNumberExact(options.window) + " s, on the log's time stamps)");
-  if (!gaps.empty()) d.notices.push_back(GapNotice(log->t, gaps, MedianStep(log->t), what));
+  if (!gaps.empty()) d.notices.push_back(GapNotice(log->t, gaps, MedianStep(log->t), GapLimit(log->t, options), what));
   d.piece_starts = {0};
   d.piece_starts.insert(d.piece_starts.end(), gaps.begin(), gaps.end());
   return d;

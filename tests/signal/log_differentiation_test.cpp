@@ -94,7 +94,7 @@ TEST(LogDifferentiation, CutsAtAGapAndSaysSo) {
     log.q(n1 + i, 0) = -0.4 * s * s + 0.3 * s + 2.0;
     log.q(n1 + i, 1) = 0.9 * s * s - 1.0;
   }
-  EXPECT_EQ(GapStarts(log.t), std::vector<int>{n1});
+  EXPECT_EQ(GapStarts(log.t, SavitzkyGolayOptions{4, 0.1}), std::vector<int>{n1});
   const LogDerivation d = DeriveFromPositions(&log, true, true, SavitzkyGolayOptions{4, 0.1});
   EXPECT_EQ(d.piece_starts, (std::vector<int>{0, n1}));
   EXPECT_TRUE(d.left_out.empty());
@@ -136,7 +136,7 @@ TEST(LogDifferentiation, JitterIsNotAGap) {
   Eigen::VectorXd t(5000);
   t[0] = 0.0;
   for (int i = 1; i < t.size(); ++i) t[i] = t[i - 1] + 0.01 * (rng.Uniform(0.0, 1.0) < 0.05 ? 3.4 : rng.Uniform(0.2, 1.2));
-  EXPECT_TRUE(GapStarts(t).empty());
+  EXPECT_TRUE(GapStarts(t, SavitzkyGolayOptions{4, 0.1}).empty());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <array>
 #include <fstream>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <sstream>
 #include <nlohmann/json.hpp>
@@ -568,6 +569,56 @@ TEST(IdentifyCli, MotorCurrentsWithUnknownGainsOnTheArm) {
                                           pb.string() + "=tool0"});
   EXPECT_EQ(unknown.exit_code, 2) << Describe(unknown);
   EXPECT_TRUE(Contains(unknown.err, "the gains are not identifiable")) << unknown.err;
+}
+
+// A 1 kHz log that lost 8 samples twice (a real arm's logger did), read without velocities and
+// accelerations: the holes are bridged, not cut, so identify's held-out error equals that of the
+// same logs without holes. Cut at each hole, the samples beside it took their accelerations from a
+// one-sided window (tens of times the noise of a centred one): held-out error +10 % on the real arm.
+TEST(IdentifyCli, AFewSamplesLostCostNothing) {
+  const RobotModel robot = LoadUrdf(testing::Example("leg3.urdf"));
+  const RobotDynamics model = MakeRobotDynamics(robot, {});
+  const Eigen::VectorXd x_true = testing::TrueParameters(model, {}, 31);
+  const testing::SimulatedLogs logs = testing::SimulateLogs(model, x_true, 0.05, 20.0, 32, 1000);
+  // Position noise (1e-3 rad), so that the derivatives carry noise as a real log's do. Measured: the
+  // held-out error is 0.03852 on whole logs, 0.03851 with the holes bridged, and was 0.03897
+  // (+1.2 %) when each hole cut its log.
+  const JointSamples train = AddGaussianNoise(logs.train, SampleNoise{1e-3, 0, 0, 0}, 33);
+  const JointSamples test = AddGaussianNoise(logs.test, SampleNoise{1e-3, 0, 0, 0}, 34);
+  // t, q_J, tau_J only (identify derives qd and qdd), without rows [a, a + 8) and [b, b + 8).
+  const auto write = [&](const JointSamples& log, bool holes, const std::string& stem) {
+    const fs::path path = testing::UniqueTempPath(stem);
+    std::ofstream out(path);
+    out << "t";
+    for (const std::string& j : log.joint_names) out << ",q_" << j << ",tau_" << j;
+    out << "\n";
+    char cell[32];
+    for (int i = 0; i < log.size(); ++i) {
+      if (holes && ((i >= 6000 && i < 6008) || (i >= 13000 && i < 13008))) continue;
+      std::snprintf(cell, sizeof cell, "%.17g", log.t[i]);
+      out << cell;
+      for (int d = 0; d < static_cast<int>(log.q.cols()); ++d) {
+        std::snprintf(cell, sizeof cell, ",%.17g", log.q(i, d));
+        out << cell;
+        std::snprintf(cell, sizeof cell, ",%.17g", log.tau(i, d));
+        out << cell;
+      }
+      out << "\n";
+    }
+    return path.string();
+  };
+  const auto held_out = [&](bool holes) {
+    const testing::CliRun r = RunCli({"identify", "--model", testing::Example("leg3.urdf"), "--data",
+                                      write(train, holes, "train.csv"), "--validate", write(test, holes, "test.csv"),
+                                      "--json"});
+    EXPECT_EQ(r.exit_code, 0) << Describe(r);
+    EXPECT_EQ(Contains(r.err, "pieces"), false) << r.err;  // no cut, no note of one
+    return nlohmann::json::parse(r.out)["relative_rms_validation"]["total"].get<double>();
+  };
+  const double whole = held_out(false), holed = held_out(true);
+  std::cerr << "held-out relative error: whole logs " << whole << ", 2 x 8 samples lost per log " << holed << "\n";
+  // 32 of 40,000 samples missing: the fit loses 0.08 % of its data, and nothing else may change.
+  EXPECT_NEAR(holed / whole, 1.0, 0.005);
 }
 
 }  // namespace
