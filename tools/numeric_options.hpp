@@ -61,7 +61,7 @@ inline const std::vector<NumericOption>& NumericOptions() {
       {"--min-explained", "FLOAT", "fraction", ""},
       {"--publish-rate", "FLOAT", "Hz", "--config's or 10"},
       {"--checkpoint-interval", "FLOAT", "s", "5"},
-      {"--max-mismatch", "FLOAT", "fraction of the range", "0.001"},
+      {"--max-mismatch-torque", "FLOAT", "fraction", "0.1"},
   };
   return table;
 }

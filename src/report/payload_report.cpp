@@ -62,9 +62,14 @@ std::string UrdfPayloadLink(const PayloadValues& p, const std::string& parent_li
 std::string PayloadText(const PayloadIdentification& r) {
   const PayloadValues p = PayloadValuesOf(r.payload);
   std::string s = "payload on " + r.link + " (in its frame), ";
+  const BaselinePairing& b = r.pairing;
   s += r.from_difference ? "from the difference with the baseline run (" + std::to_string(r.num_samples) +
-                               " paired samples; positions agree to " + FormatNumber(100 * r.position_mismatch, 3) +
-                               " % of the range, worst " + r.mismatch_joint + ")"
+                               " paired samples, the baseline shifted by " + FormatNumber(1000 * b.time_shift, 4) +
+                               " ms; positions agree to " + FormatNumber(100 * b.position_mismatch, 3) +
+                               " % of the range, worst " + b.mismatch_joint + ", " +
+                               FormatNumber(100 * b.position_mismatch_unshifted, 3) +
+                               " % unshifted; the remaining mismatch's predicted torque " +
+                               FormatNumber(100 * b.mismatch_torque, 3) + " % of the difference's)"
                          : "against the model (" + std::to_string(r.num_samples) + " samples; links held at the URDF)";
   s += ", RMS torque residual " + FormatNumber(r.residual_rms, 3) + " N m:\n  ";
   s += BodyUncertaintyText(r.payload, r.uncertainty, &r.held) + "\n";
@@ -97,8 +102,12 @@ nlohmann::json PayloadJson(const PayloadIdentification& r) {
   j["held_by_prior"] = HeldQuantities(r.held);
   j["from_difference"] = r.from_difference;
   if (r.from_difference) {
-    j["position_mismatch"] = r.position_mismatch;
-    j["position_mismatch_joint"] = r.mismatch_joint;
+    j["time_shift"] = r.pairing.time_shift;
+    j["position_mismatch"] = r.pairing.position_mismatch;
+    j["position_mismatch_joint"] = r.pairing.mismatch_joint;
+    j["position_mismatch_unshifted"] = r.pairing.position_mismatch_unshifted;
+    j["position_mismatch_unshifted_joint"] = r.pairing.unshifted_joint;
+    j["mismatch_torque"] = Number(r.pairing.mismatch_torque);
   }
   j["num_samples"] = r.num_samples;
   j["residual_rms"] = r.residual_rms;

@@ -5,6 +5,8 @@
 // trajectory.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -76,6 +78,13 @@ TEST(PayloadCli, AgainstTheModelAndFromTheDifference) {
     EXPECT_TRUE(Contains(j["franka"].get<std::string>(), "robot.setLoad(")) << r.out;
     EXPECT_TRUE(Contains(j["urdf"].get<std::string>(), "<parent link=\"tool0\"/>")) << r.out;
     EXPECT_TRUE(j["held_by_prior"].is_array());
+    if (difference) {
+      // The same trajectory from the same instant: no shift to speak of, the pairing reported.
+      EXPECT_LT(std::abs(j["time_shift"].get<double>()), 1e-4) << r.out;
+      EXPECT_LT(j["position_mismatch"].get<double>(), 1e-3) << r.out;
+      EXPECT_GE(j["position_mismatch_unshifted"].get<double>(), j["position_mismatch"].get<double>()) << r.out;
+      EXPECT_LT(j["mismatch_torque"].get<double>(), 0.1) << r.out;
+    }
   }
   const testing::CliRun text = RunCli({"payload", "--model", Example("arm7.urdf"), "--data", with, "--link", "tool0"});
   ASSERT_EQ(text.exit_code, 0) << Describe(text);
@@ -107,8 +116,37 @@ TEST(PayloadCli, RefusesABaselineOfAnotherTrajectory) {
   const testing::CliRun r = RunCli({"payload", "--model", Example("arm7.urdf"), "--data", with, "--baseline", other,
                                     "--link", "tool0"});
   EXPECT_EQ(r.exit_code, 3) << Describe(r);
-  EXPECT_TRUE(Contains(r.err, "do not follow the same trajectory")) << r.err;
+  EXPECT_TRUE(Contains(r.err, "do not follow the same trajectory closely enough to be subtracted")) << r.err;
+  EXPECT_TRUE(Contains(r.err, "(at most 0.1: ")) << r.err;
   EXPECT_TRUE(Contains(r.err, "% of its range of motion")) << r.err;
+  // The position tolerance of the earlier pairing is refused, naming its replacement.
+  const testing::CliRun old = RunCli({"payload", "--model", Example("arm7.urdf"), "--data", with, "--baseline", other,
+                                      "--link", "tool0", "--max-mismatch", "0.01"});
+  EXPECT_EQ(old.exit_code, 2) << Describe(old);
+  EXPECT_TRUE(Contains(old.err, "Error: --max-mismatch (a tolerance on the runs' positions) was replaced by "
+                                "--max-mismatch-torque")) << old.err;
+}
+
+// A baseline recorded 20 ms late (its log starts 4 samples into the motion at 200 Hz) is paired at
+// the shift that removes it: the payload as from a baseline that started with the motion.
+TEST(PayloadCli, ABaselineRecordedLateIsShifted) {
+  const std::string with = Simulate("with", "payload@tool0:mass=2", "0.1", 3);
+  const std::string baseline = Simulate("baseline", "", "0", 3);
+  std::string text = testing::ReadFile(baseline);
+  for (int drop = 0; drop < 4; ++drop) {  // the header stays, the first 4 samples go
+    const size_t first = text.find('\n');
+    text.erase(first + 1, text.find('\n', first + 1) - first);
+  }
+  const std::string late = testing::WriteUniqueTempFile("late.csv", text);
+  const testing::CliRun r = RunCli({"payload", "--model", Example("arm7.urdf"), "--data", with, "--baseline", late,
+                                    "--link", "tool0", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["time_shift"].get<double>(), -0.020, 1e-5) << r.out;
+  EXPECT_GT(j["position_mismatch_unshifted"].get<double>(), 0.001) << r.out;
+  EXPECT_LT(j["position_mismatch"].get<double>(), 1e-4) << r.out;
+  EXPECT_NEAR(j["mass"].get<double>(), 2.0, 0.04) << r.out;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(j["com"][i].get<double>(), 0.0, 0.005) << r.out;
 }
 
 }  // namespace

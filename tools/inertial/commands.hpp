@@ -117,7 +117,8 @@ int RunValidateCommand(const ValidateCommand& command);
 struct PayloadCommand {
   std::string model, data, baseline, link, time_scale;
   std::string prior_weight = "0.01";
-  std::string max_mismatch = "0.001";
+  std::string max_mismatch_torque = "0.1";
+  std::string max_mismatch;         ///< replaced by max_mismatch_torque: refused, saying so
   std::string gravity = "0 0 -9.81";
   bool json = false;
 };

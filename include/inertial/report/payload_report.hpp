@@ -58,8 +58,10 @@ std::string UrdfPayloadLink(const PayloadValues& p, const std::string& parent_li
 /// where the data do not determine a quantity, how it was fitted, then the three forms above.
 std::string PayloadText(const PayloadIdentification& r);
 /// {link, mass, mass_std, com[3], com_std[3], inertia_about_com {ixx, iyy, izz, ixy, ixz, iyz},
-/// inertia_about_com_std {the same}, held_by_prior [names], from_difference, position_mismatch,
-/// num_samples, residual_rms, ur_script, franka, urdf} (an infinite std as the string "inf").
+/// inertia_about_com_std {the same}, held_by_prior [names], from_difference, (from the difference:
+/// time_shift [s], position_mismatch and its _joint, position_mismatch_unshifted and its _joint,
+/// mismatch_torque: BaselinePairing), num_samples, residual_rms, ur_script, franka, urdf} (an
+/// infinite std as the string "inf").
 nlohmann::json PayloadJson(const PayloadIdentification& r);
 
 }  // namespace inertial
