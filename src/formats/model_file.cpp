@@ -162,7 +162,22 @@ RobotDynamics MakeRobotDynamics(const RobotModel& robot, const std::vector<Effec
     location->link_in_body = it->second.X_body_link;
     return true;
   };
-  return RobotDynamics(robot.tree, robot.dof_names, effects, resolve, gravity);
+  RobotDynamics model(robot.tree, robot.dof_names, effects, resolve, gravity);
+  // A link's own collision shapes bound it better than its segment (body_region.hpp, source 1).
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const EstimatedBody& body = model.bodies()[e];
+    const int b = body.tree_body;
+    if (!body.region || body.region->source != RegionSource::kSegment || b >= static_cast<int>(robot.body_shape_points.size()) ||
+        robot.body_shape_points[b].size() < 4) {
+      continue;
+    }
+    try {
+      model.SetBodyRegion(e, RegionAround(robot.body_shape_points[b], body.prior, kShapeRegionMargin, RegionSource::kShape));
+    } catch (const std::invalid_argument&) {
+      // Shapes that determine no ellipsoid (all in a plane): the segment's region stays.
+    }
+  }
+  return model;
 }
 
 }  // namespace inertial

@@ -15,6 +15,7 @@
 
 #include "inertial/formats/input_file.hpp"
 #include "inertial/inertia/consistency.hpp"
+#include "inertial/model/body_region.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/model/number_text.hpp"
 #include "urdf_effects.hpp"
@@ -456,6 +457,54 @@ UrdfLinkInertial ConvertInertial(const urdf::Link& link, const std::string& sour
 
 bool IsZero(const InertialParams& pi) { return (pi.vector().array() == 0.0).all(); }
 
+// Points on the collision primitives of `link` in its own frame (body_region.hpp): boxes, cylinders
+// and spheres; *meshes counts the mesh shapes, which are not read (their files are rarely at hand).
+std::vector<Vector3> CollisionPoints(const urdf::Link& link, int* meshes) {
+  std::vector<Vector3> points;
+  for (const urdf::CollisionSharedPtr& c : link.collision_array) {
+    if (!c || !c->geometry) continue;
+    const Matrix3 R = RotationOf(c->origin.rotation);
+    const Vector3 p = VectorOf(c->origin.position);
+    std::vector<Vector3> shape;
+    switch (c->geometry->type) {
+      case urdf::Geometry::SPHERE: {
+        const auto& sphere = static_cast<const urdf::Sphere&>(*c->geometry);
+        shape = ShapePointsOfSphere(p, sphere.radius);
+        break;
+      }
+      case urdf::Geometry::BOX: {
+        const auto& box = static_cast<const urdf::Box&>(*c->geometry);
+        shape = ShapePointsOfBox(R, p, VectorOf(box.dim));
+        break;
+      }
+      case urdf::Geometry::CYLINDER: {
+        const auto& cylinder = static_cast<const urdf::Cylinder&>(*c->geometry);
+        shape = ShapePointsOfCylinder(R, p, cylinder.radius, cylinder.length);
+        break;
+      }
+      default: ++*meshes; break;
+    }
+    for (const Vector3& x : shape) {
+      if (x.allFinite()) points.push_back(x);
+    }
+  }
+  return points;
+}
+
+// Every tree body's collision points in its own frame (the links merged into it included).
+void GatherShapes(const urdf::ModelInterfaceSharedPtr& urdf_model, RobotModel* model) {
+  model->body_shape_points.assign(model->body_links.size(), {});
+  model->body_shape_meshes.assign(model->body_links.size(), 0);
+  for (const auto& [name, placement] : model->placements) {
+    if (placement.body < 0) continue;
+    const urdf::LinkConstSharedPtr link = urdf_model->getLink(name);
+    if (!link) continue;
+    for (const Vector3& x : CollisionPoints(*link, &model->body_shape_meshes[placement.body])) {
+      model->body_shape_points[placement.body].push_back(placement.X_body_link.R_AB * x + placement.X_body_link.p_AB);
+    }
+  }
+}
+
 // A body of the tree being assembled (the tree's inertias cannot change after AddBody).
 struct PendingBody {
   std::string link;
@@ -612,6 +661,7 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
   std::vector<PendingBody> bodies = PlaceLinks(urdf_model, order.joints, src, &model);
   MergeInertials(model, options, src, &bodies);
   AddBodies(bodies, options, src, &model);
+  GatherShapes(urdf_model, &model);
 
   model.effects = detail::ReadModelEffects(robot_element, src, model.dof_names, &model.effect_declared);
   model.dof_limits = detail::ReadJointLimits(robot_element, src, model.dof_names);

@@ -1,5 +1,7 @@
 #include "inertial/model/robot_dynamics.hpp"
 
+#include "inertial/inertia/consistency.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -160,6 +162,7 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
                                     LogCholeskyParameterization(tree_.inertia(b)), SpatialTransform()});
   }
   AddPayloads(effects, resolve_link, &bodies_);
+  AssignDefaultRegions();
   num_blocks_ = tree_.num_bodies();
   for (EstimatedBody& b : bodies_) {
     if (b.block == -2) b.block = num_blocks_++;  // a payload's own block, after the tree bodies'
@@ -167,6 +170,30 @@ RobotDynamics::RobotDynamics(const KinematicTree& links, std::vector<std::string
   num_parameters_ = 10 * static_cast<int>(bodies_.size());
   num_features_ = num_inertia_features();
   AddJointEffects(effects, dof_names_, num_dofs(), &num_parameters_, &num_features_, &effects_);
+}
+
+void RobotDynamics::AssignDefaultRegions() {
+  const double reach = LongestSegment(tree_);
+  for (EstimatedBody& b : bodies_) {
+    if (!CheckConsistency(b.prior).fully_consistent()) continue;  // nothing to start a region from
+    if (b.name.rfind("payload@", 0) == 0) {
+      if (reach > 0.0) {
+        b.region = RegionAround(ShapePointsOfSphere(b.report_frame.p_AB, reach), b.prior, 0.0, RegionSource::kPayloadReach);
+      }
+    } else if (!tree_.is_rotor(b.tree_body)) {
+      b.region = SegmentRegion(tree_, b.tree_body, b.prior);
+    }
+  }
+}
+
+void RobotDynamics::SetBodyRegion(int e, std::optional<BodyRegion> region) {
+  if (e < 0 || e >= static_cast<int>(bodies_.size())) {
+    throw std::invalid_argument("robot dynamics: no estimated body " + std::to_string(e));
+  }
+  if (region && !(region->ellipsoid.Slack(bodies_[e].prior) > 0.0 && bodies_[e].prior.mass() < region->max_mass)) {
+    throw std::invalid_argument("robot dynamics: the region given to '" + bodies_[e].name + "' does not hold its prior");
+  }
+  bodies_[e].region = std::move(region);
 }
 
 std::vector<std::string> RobotDynamics::ParameterNames() const {

@@ -1,5 +1,7 @@
 #include "inertial/report/identification_report.hpp"
 
+#include "inertial/model/region_plausibility.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
@@ -171,6 +173,12 @@ bool WriteBody(std::ostringstream& out, const RobotDynamics& model, const Identi
   out << "    " << (c.fully_consistent() ? "physically consistent" : "NOT physically consistent: " + c.reason)
       << " (mass " << FormatNumber(c.mass, 3) << " kg, triangle margin " << FormatNumber(c.min_triangle_margin, 3)
       << " kg m^2, min eig J " << FormatNumber(c.min_pseudo_inertia_eigenvalue, 3) << ")\n";
+  if (const auto p = JudgeEstimatedBody(model.bodies()[e], run.fit.x.segment<10>(10 * e))) {
+    out << "    " << (p->plausible ? "plausible" : "NOT plausible") << ": region from "
+        << ToString(model.bodies()[e].region->source) << ", slack " << FormatNumber(p->slack, 3) << ", density "
+        << FormatNumber(p->density, 4) << " kg/m^3 over it, mass " << FormatNumber(p->mass_ratio, 3) << " x the URDF's"
+        << (p->words.empty() ? "" : "; " + p->words) << "\n";
+  }
   return c.fully_consistent();
 }
 
@@ -189,6 +197,14 @@ bool WriteBodies(std::ostringstream& out, const RobotDynamics& model, const Iden
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const bool consistent = WriteBody(out, model, run, e);
     all_consistent = all_consistent && consistent;
+  }
+  // What a user must not miss, once more after the numbers: bodies no link could be, or held by
+  // their regions.
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const auto p = JudgeEstimatedBody(model.bodies()[e], run.fit.x.segment<10>(10 * e));
+    if (p && !p->words.empty()) {
+      out << (p->plausible ? "Note: " : "Warning: ") << model.bodies()[e].name << ": " << p->words << "\n";
+    }
   }
   return all_consistent;
 }
@@ -284,6 +300,16 @@ nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, 
                         {"min_triangle_margin", c.min_triangle_margin},
                         {"min_pseudo_inertia_eigenvalue", c.min_pseudo_inertia_eigenvalue}};
     b["physically_consistent"] = c.fully_consistent();
+    if (const auto p = JudgeEstimatedBody(model.bodies()[e], x.segment<10>(10 * e))) {
+      b["plausibility"] = {{"region", ToString(model.bodies()[e].region->source)},
+                           {"slack", p->slack},
+                           {"density", p->density},
+                           {"mass_ratio", p->mass_ratio},
+                           {"inside", p->inside},
+                           {"on_edge", p->on_edge},
+                           {"plausible", p->plausible},
+                           {"words", p->words}};
+    }
     bodies.push_back(b);
   }
   if (all_consistent != nullptr) *all_consistent = consistent;
@@ -373,6 +399,11 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
                    {"rounds", o.rounds},
                    {"reasons", o.reasons}};
   j["physically_consistent"] = all_consistent;
+  bool all_plausible = true;
+  for (const auto& b : j["bodies"]) {
+    if (b.contains("plausibility") && !b["plausibility"]["plausible"].get<bool>()) all_plausible = false;
+  }
+  j["plausible"] = all_plausible;
   const IdentifiabilityReport& id = run.identifiability;
   nlohmann::json directions = nlohmann::json::array();
   for (const UnidentifiedDirection& d : id.directions) {

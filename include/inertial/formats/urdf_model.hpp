@@ -5,7 +5,8 @@
 /// - Joints `revolute` and `continuous` (both revolute), `prismatic` and `fixed`, with their
 ///   `<origin xyz rpy>` (rpy fixed-axis roll-pitch-yaw: R = Rz(yaw) Ry(pitch) Rx(roll)) and `<axis>`
 ///   (any non-zero direction, normalized; URDF's default (1, 0, 0) when absent). Several branches (any
-///   tree) are fine. Visuals, collisions and safety controllers are not used.
+///   tree) are fine. Collision primitives (box, cylinder, sphere) bound each link's region
+///   (body_region.hpp); visuals, meshes and safety controllers are not used.
 /// - `<limit lower upper velocity effort>` of the moving joints (RobotModel::dof_limits, what
 ///   `simulate` keeps to): an absent attribute, and a velocity or effort of 0 (what exporters
 ///   write for "unknown"), states no limit; a continuous joint's lower and upper are ignored.
@@ -121,6 +122,10 @@ struct RobotModel {
   KinematicTree tree;
   std::vector<std::string> body_links;  ///< the URDF link name of each tree body
   std::vector<bool> body_has_inertial;  ///< some link merged into that body has an <inertial>
+  /// Per tree body: points on the collision primitives (box, cylinder, sphere) of the links merged
+  /// into it, in its frame (body_region.hpp), and how many collision meshes were not read.
+  std::vector<std::vector<Vector3>> body_shape_points;
+  std::vector<int> body_shape_meshes;
   std::vector<std::string> dof_names;   ///< the joint name of each DOF, in the tree's DOF order
   std::vector<JointLimits> dof_limits;  ///< the <limit> of each DOF (infinite where none is stated)
   std::vector<UrdfLinkInertial> links;  ///< every link of the file, in file order

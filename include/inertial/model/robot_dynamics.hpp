@@ -20,10 +20,12 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "inertial/inertia/log_cholesky.hpp"
+#include "inertial/model/body_region.hpp"
 #include "inertial/model/joint_effect.hpp"
 #include "inertial/model/kinematic_tree.hpp"
 
@@ -47,6 +49,9 @@ struct EstimatedBody {
   InertialParams prior;      ///< in the tree body's frame
   LogCholeskyParameterization map;  ///< relative to the prior (eq. 11)
   SpatialTransform report_frame;    ///< the user's frame for it, posed in the tree body's frame
+  /// Where its mass may lie (body_region.hpp), in the tree body's frame; none for rotors. Every fit
+  /// keeps the body inside (joint_identification.hpp's barrier).
+  std::optional<BodyRegion> region;
 };
 
 struct EffectTerm {
@@ -116,12 +121,18 @@ class RobotDynamics {
   /// coefficient becomes e^s = 1e-300). @throws std::invalid_argument naming a term that has no
   /// values, values of the wrong count, or a negative or non-finite coefficient.
   Eigen::VectorXd ParametersFromEffectValues(const std::vector<ModelEffect>& effects) const;
+  /// Replaces estimated body e's region (body_region.hpp; nullopt: none, the body is then only
+  /// physically consistent). @throws std::invalid_argument if e is not a body, or the region does not
+  /// hold the body's prior strictly (slack > 0, mass below max_mass): a fit starts at the prior.
+  void SetBodyRegion(int e, std::optional<BodyRegion> region);
   /// Estimated body e at x, in its report frame.
   InertialParams BodyInertia(int e, const Eigen::VectorXd& x) const;
   /// The physical coefficients of effect term k at x: {b}, {bc}, {c}, {Ia}, {k, q0}, {bp, bn} or {p1}.
   std::vector<double> EffectValues(int k, const Eigen::VectorXd& x) const;
 
  private:
+  void AssignDefaultRegions();  // body_region.hpp's sources 2-4 (formats/ adds source 1)
+
   KinematicTree tree_;
   std::vector<std::string> dof_names_;
   std::vector<EstimatedBody> bodies_;

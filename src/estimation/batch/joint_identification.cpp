@@ -1,4 +1,5 @@
 #include "inertial/estimation/batch/joint_identification.hpp"
+#include "inertial/estimation/batch/region_barrier.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -264,15 +265,22 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
   Eigen::VectorXd x0 =
       options.initial.size() != 0 ? options.initial : DefaultInitialParameters(model, data, options.frozen_bodies);
   for (int e = 0; e < B; ++e) {
-    if (IsFrozen(options.frozen_bodies, e)) x0.segment<10>(10 * e).setZero();
+    // A frozen body sits at its prior; so does one whose given start lies outside its region (a
+    // warm start from a model without regions), since every iterate must be inside.
+    if (IsFrozen(options.frozen_bodies, e) ||
+        (model.bodies()[e].region && !std::isfinite(RegionBarrier(model.bodies()[e], x0.segment<10>(10 * e), false)))) {
+      x0.segment<10>(10 * e).setZero();
+    }
   }
   result.x_initial = x0;
 
   const double gamma = options.prior_weight;
   Eigen::MatrixXd J_w, AtA_J;
   const std::vector<JacobianBlock> blocks = CoefficientJacobianBlocks(model);
-  Matrix10 J_r;
-  // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b): data through A^T A only.
+  Matrix10 J_r, H_b;
+  Vector10 g_b;
+  const double mu = RegionBarrierWeight(data.btb, data.num_samples);
+  // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b + mu sum b_b): data through A^T A only.
   auto problem = [&](const Eigen::VectorXd& x, double* cost, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
     const bool derivatives = g != nullptr && H != nullptr;
     const Eigen::VectorXd w = model.Coefficients(x, derivatives ? &J_w : nullptr);
@@ -285,6 +293,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
       GaussNewtonHessian(data.AtA, J_w, blocks, F, P, AtA_J, H);
       if (options.newton) AddSecondOrderTerms(model, x, w, grad_w, H);
     }
+    double barrier = 0.0;
     for (int e = 0; e < B; ++e) {
       const Vector10 r =
           LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), derivatives ? &J_r : nullptr);
@@ -293,9 +302,19 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
         g->segment<10>(10 * e) += gamma * J_r.transpose() * r;
         H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
       }
+      // Every body inside its region (region_barrier.hpp); a frozen body sits at its prior, inside.
+      if (!model.bodies()[e].region || IsFrozen(options.frozen_bodies, e)) continue;
+      const double b = RegionBarrier(model.bodies()[e], x.segment<10>(10 * e), options.newton,
+                                     derivatives ? &g_b : nullptr, derivatives ? &H_b : nullptr);
+      if (!std::isfinite(b)) return false;  // outside: Levenberg-Marquardt rejects the step
+      barrier += b;
+      if (derivatives) {
+        g->segment<10>(10 * e) += 0.5 * mu * g_b;
+        H->block<10, 10>(10 * e, 10 * e) += 0.5 * mu * H_b;
+      }
     }
     if (derivatives) HoldParameters(options, g, H);
-    *cost = 0.5 * (data_sq + gamma * reg);
+    *cost = 0.5 * (data_sq + gamma * reg + mu * barrier);
     return std::isfinite(*cost);
   };
   result.lm = MinimizeLevenbergMarquardt(problem, x0, options.lm);

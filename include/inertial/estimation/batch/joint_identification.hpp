@@ -6,7 +6,9 @@
 ///
 /// solved by Levenberg-Marquardt over x (log-Cholesky theta relative to each prior plus effect
 /// parameters, robot_dynamics.hpp), so every iterate is physically consistent. d is the log-det
-/// divergence (log_det_divergence.hpp), which fixes the directions the data cannot see.
+/// divergence (log_det_divergence.hpp), which fixes the directions the data cannot see. Every body
+/// with a region (EstimatedBody::region) is kept inside it by a smooth barrier added to the cost
+/// (region_barrier.hpp), so every iterate is a body the robot could have, not only a consistent one.
 /// The data enter only through A^T A, A^T tau and tau^T tau (accumulated once; each iteration then
 /// costs O(parameters^3), independent of the number of samples).
 #pragma once

@@ -1,0 +1,69 @@
+#include "inertial/estimation/batch/region_barrier.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace inertial {
+namespace {
+
+// phi(s) of the file comment with its first and second derivative (0 at and above kBarrierOnset).
+struct Phi {
+  double value = 0.0, first = 0.0, second = 0.0;
+};
+Phi OneSidedLog(double s) {
+  constexpr double s0 = kBarrierOnset;
+  Phi p;
+  if (s >= s0) return p;
+  const double u = s / s0 - 1.0;
+  p.value = -std::log(s / s0) + u - 0.5 * u * u;
+  p.first = -1.0 / s + 2.0 / s0 - s / (s0 * s0);
+  p.second = 1.0 / (s * s) - 1.0 / (s0 * s0);
+  return p;
+}
+
+}  // namespace
+
+double RegionBarrier(const EstimatedBody& body, const Vector10& theta, bool newton, Vector10* g, Matrix10* H) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const BodyRegion& region = *body.region;
+  Matrix10 J;
+  const Vector10 pi = body.map.ToPi(theta, (g != nullptr || H != nullptr) ? &J : nullptr);
+  const Vector10 q = region.ellipsoid.RegionCoefficients();
+  const double a = q.dot(pi), m = pi[0];
+  if (!pi.allFinite() || !(a > 0.0) || !(m > 0.0) || !(m < region.max_mass)) return kInfinity;
+  const double s = a / m, r = 1.0 - m / region.max_mass;
+  const Phi ps = OneSidedLog(s), pr = OneSidedLog(r);
+  const double value = ps.value + pr.value;
+  if (!std::isfinite(value)) return kInfinity;
+  if (g == nullptr && H == nullptr) return value;
+  Vector10 e0 = Vector10::Zero();
+  e0[0] = 1.0;
+  const Vector10 ds = (q - s * e0) / m, dr = -e0 / region.max_mass;
+  const Vector10 d_pi = ps.first * ds + pr.first * dr;
+  if (g != nullptr) *g = J.transpose() * d_pi;
+  if (H != nullptr) {
+    Matrix10 d2_pi = ps.second * ds * ds.transpose() + pr.second * dr * dr.transpose();
+    if (newton) {
+      const Matrix10 d2s = -(q * e0.transpose() + e0 * q.transpose()) / (m * m) + 2.0 * a * e0 * e0.transpose() / (m * m * m);
+      d2_pi += ps.first * d2s;
+      *H = J.transpose() * d2_pi * J + body.map.ContractedHessian(theta, d_pi);
+    } else {
+      *H = J.transpose() * d2_pi * J;
+    }
+  }
+  return value;
+}
+
+double RegionBarrierWeight(double btb, int num_samples) {
+  const double per_sample = num_samples > 0 && std::isfinite(btb) ? btb / num_samples : 0.0;
+  return kRegionBarrierWeight * std::max(per_sample, 1e-12);
+}
+
+double RegionSlack(const EstimatedBody& body, const Vector10& theta) {
+  if (!body.region) return std::numeric_limits<double>::infinity();
+  const Vector10 pi = body.map.ToPi(theta);
+  return body.region->ellipsoid.RegionCoefficients().dot(pi) / pi[0];
+}
+
+}  // namespace inertial
