@@ -194,13 +194,31 @@ PayloadIdentification Fit(const RobotDynamics& model, const std::string& link, c
   fit.initial.resize(0);
   const JointNormalEquations eq = AccumulateNormalEquations(model, data);
   r.fit = IdentifyJointModel(model, eq, fit);
-  const FitUncertainty u = EstimateFitUncertainty(model, eq, r.fit.x, fit.prior_weight, fit.frozen_bodies);
+  // The stds also from time blocks (the residual's correlation and model error: fit_uncertainty.hpp).
+  const TimeBlocks blocks = AccumulateTimeBlocks(model, data, r.fit.x);
+  const FitUncertainty u = EstimateFitUncertainty(model, eq, r.fit.x, fit.prior_weight, fit.frozen_bodies, blocks);
+  r.time_blocks = u.time_blocks;
+  r.block_length = u.block_length;
+  r.correlation_time = u.correlation_time;
+  // The residual's sample-to-sample noise (file comment, "Model error").
+  const Eigen::MatrixXd residual = PredictJointTorques(model, r.fit.x, data) - data.tau;
+  const std::vector<int> pieces = SeamFreePieces(data);
+  double sum_sq_diff = 0.0;
+  long long diffs = 0;
+  for (size_t p = 0; p + 1 < pieces.size(); ++p) {
+    for (int i = pieces[p] + 1; i < pieces[p + 1]; ++i) {
+      sum_sq_diff += (residual.row(i) - residual.row(i - 1)).squaredNorm();
+      diffs += model.num_dofs();
+    }
+  }
+  r.residual_white_noise = diffs > 0 ? std::sqrt(sum_sq_diff / (2.0 * diffs)) : 0.0;
   r.payload = model.BodyInertia(r.body, r.fit.x);
   r.uncertainty = u.bodies[r.body];
   r.held = u.body_held[r.body];
   r.noise_sigma = u.noise_sigma;
   r.num_samples = data.size();
   r.residual_rms = std::sqrt(r.fit.data_cost / std::max(1.0, double(data.size()) * model.num_dofs()));
+  r.model_error = r.residual_rms > std::sqrt(2.0) * r.residual_white_noise;
   return r;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -58,6 +59,87 @@ bool TouchesUndetermined(const ScaledHessian& s, int first, const Eigen::VectorX
 }
 
 }  // namespace
+
+std::vector<int> SeamFreePieces(const JointSamples& data) {
+  const int N = data.size();
+  std::vector<int> starts{0};
+  if (N >= 3) {
+    std::vector<double> steps(N - 1);
+    for (int i = 0; i + 1 < N; ++i) steps[i] = data.t[i + 1] - data.t[i];
+    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+    const double median = steps[steps.size() / 2];
+    for (int i = 1; i < N; ++i) {
+      if (data.t[i] - data.t[i - 1] > 5.0 * median) starts.push_back(i);
+    }
+  }
+  starts.push_back(N);
+  return starts;
+}
+
+double IntegratedAutocorrelationTime(const Eigen::VectorXd& r, const std::vector<int>& starts) {
+  // Centred per piece (a constant offset of a piece is not a correlation in time).
+  Eigen::VectorXd c = r;
+  for (size_t p = 0; p + 1 < starts.size(); ++p) {
+    const int a = starts[p], len = starts[p + 1] - starts[p];
+    if (len > 0) c.segment(a, len).array() -= c.segment(a, len).mean();
+  }
+  const double c0 = c.squaredNorm();
+  if (!(c0 > 0.0) || !std::isfinite(c0)) return 1.0;
+  int longest = 0;
+  for (size_t p = 0; p + 1 < starts.size(); ++p) longest = std::max(longest, starts[p + 1] - starts[p]);
+  double tau = 1.0;
+  for (int k = 1; k < longest; ++k) {
+    double ck = 0.0;
+    for (size_t p = 0; p + 1 < starts.size(); ++p) {
+      const int a = starts[p], len = starts[p + 1] - starts[p];
+      if (len > k) ck += c.segment(a, len - k).dot(c.segment(a + k, len - k));
+    }
+    tau += 2.0 * ck / c0;
+    if (k >= 5.0 * tau) break;  // Sokal's window: M >= 5 tau_int(M)
+  }
+  return std::max(1.0, tau);
+}
+
+TimeBlocks AccumulateTimeBlocks(const RobotDynamics& model, const JointSamples& data, const Eigen::VectorXd& x) {
+  if (x.size() != model.num_parameters()) {
+    throw std::invalid_argument("time blocks: x must have " + std::to_string(model.num_parameters()) + " entries");
+  }
+  if (data.size() < 2) throw std::invalid_argument("time blocks: at least two samples are needed");
+  const int N = data.size(), n = model.num_dofs(), F = model.num_features();
+  const Eigen::MatrixXd residual = PredictJointTorques(model, x, data) - data.tau;  // throws on mismatch
+  TimeBlocks tb;
+  const std::vector<int> starts = SeamFreePieces(data);
+  tb.pieces = static_cast<int>(starts.size()) - 1;
+  tb.correlation_time = 1.0;
+  for (int j = 0; j < n; ++j) {
+    tb.correlation_time = std::max(tb.correlation_time, IntegratedAutocorrelationTime(residual.col(j), starts));
+  }
+  int L = static_cast<int>(std::ceil(5.0 * tb.correlation_time));
+  L = std::max(1, std::min(L, N / kMinTimeBlocks));
+  tb.block_length = L;
+  // Each piece into round(len / L) (at least 1) blocks of equal length.
+  std::vector<int> block_of(N);
+  int K = 0;
+  for (int p = 0; p < tb.pieces; ++p) {
+    const int a = starts[p], len = starts[p + 1] - starts[p];
+    const int count = std::max(1, static_cast<int>(std::lround(static_cast<double>(len) / L)));
+    for (int i = 0; i < len; ++i) block_of[a + i] = K + static_cast<int>(static_cast<long long>(i) * count / len);
+    K += count;
+  }
+  tb.blocks.assign(K, JointNormalEquations{Eigen::MatrixXd::Zero(F, F), Eigen::VectorXd::Zero(F), 0.0, 0});
+  Eigen::MatrixXd A(n, F);
+  for (int i = 0; i < N; ++i) {
+    model.Features(data.q.row(i).transpose(), data.qd.row(i).transpose(), data.qdd.row(i).transpose(), A);
+    JointNormalEquations& b = tb.blocks[block_of[i]];
+    const Eigen::VectorXd tau = data.tau.row(i).transpose();
+    b.AtA.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
+    b.Atb.noalias() += A.transpose() * tau;
+    b.btb += tau.squaredNorm();
+    ++b.num_samples;
+  }
+  for (JointNormalEquations& b : tb.blocks) b.AtA = b.AtA.selfadjointView<Eigen::Lower>();
+  return tb;
+}
 
 Matrix10 ReportFrameMap(const EstimatedBody& body) {
   // The pseudo-inertia moves as J_A = T J_B T^T, linear in pi: L's columns are the images of e_k.
@@ -143,10 +225,26 @@ FitHessian HessianOfTheFit(const RobotDynamics& model, const JointNormalEquation
 
 // Body e's standard deviations (every quantity through its gradient with respect to theta_e) and
 // which of them the prior holds, into u.
+// With time blocks: the white-noise covariance and the one with the data's part from the block
+// sandwich (file comment); each quantity's variance is the larger of the two.
+struct BlockVariances {
+  Eigen::MatrixXd laplace, block;
+  double Variance(int first, const Eigen::VectorXd& g) const {
+    const int m = static_cast<int>(g.size());
+    return std::max(g.dot(laplace.block(first, first, m, m) * g), g.dot(block.block(first, first, m, m) * g));
+  }
+  double Ratio(int first, const Eigen::VectorXd& g) const {
+    const int m = static_cast<int>(g.size());
+    const double white = g.dot(laplace.block(first, first, m, m) * g);
+    return white > 0.0 ? std::sqrt(std::max(0.0, g.dot(block.block(first, first, m, m) * g)) / white) : 1.0;
+  }
+};
+
 void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& x, int e, const FreeParameters& free,
                              const FitHessian& hessian, const ScaledHessian& scaled, const Eigen::MatrixXd& H_pinv,
                              const Eigen::MatrixXd& C_free, double prior_weight,
-                             const std::vector<bool>& frozen_bodies, FitUncertainty& u) {
+                             const std::vector<bool>& frozen_bodies, FitUncertainty& u,
+                             const BlockVariances* block = nullptr) {
   const int B = static_cast<int>(model.bodies().size());
   const std::vector<int>& position = free.position;
   const Eigen::MatrixXd& H_data = hessian.data;
@@ -181,6 +279,10 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
   bool held[10] = {};
   for (int q = 0; q < 16; ++q) {
     const Eigen::VectorXd g = G_theta.row(q).transpose();
+    if (block != nullptr) *std_of[q] = std::sqrt(std::max(0.0, block->Variance(first, g)));
+    if (block != nullptr && q < 10 && prior_weight == 0.0 && std::isfinite(*std_of[q])) {
+      u.max_block_to_white_ratio = std::max(u.max_block_to_white_ratio, block->Ratio(first, g));
+    }
     if (TouchesUndetermined(scaled, first, g)) *std_of[q] = kInfinity;
     if (q >= 10 || prior_weight == 0.0 || std::isinf(*std_of[q])) continue;
     const Eigen::VectorXd y = H_pinv.middleCols(first, 10) * g;
@@ -191,6 +293,9 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
       prior_share += y_b.dot(H_prior[b] * y_b);
     }
     held[q] = prior_share > y.dot(H_data * y);
+    if (block != nullptr && !held[q]) {
+      u.max_block_to_white_ratio = std::max(u.max_block_to_white_ratio, block->Ratio(first, g));
+    }
   }
   BodyHeldByPrior& h = u.body_held[e];
   h.mass = held[mci_index::kMass];
@@ -201,14 +306,21 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
 // Effect k's standard deviations: each physical value's from the std of its parameter.
 std::vector<double> EffectUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& x, int k,
                                               const FreeParameters& free, const Eigen::MatrixXd& C_free,
-                                              const std::vector<bool>& undetermined_parameter) {
+                                              const std::vector<bool>& undetermined_parameter,
+                                              const BlockVariances* block, double* max_ratio) {
   const std::vector<int>& position = free.position;
   const EffectTerm& t = model.effects()[k];
   const std::vector<double> values = model.EffectValues(k, x);
   std::vector<double> stds(values.size());
   for (int i = 0; i < static_cast<int>(values.size()); ++i) {
     const int p = position[t.first_parameter + i];
-    const double sd = std::sqrt(std::max(0.0, C_free(p, p)));
+    double variance = C_free(p, p);
+    if (block != nullptr) {
+      const Eigen::VectorXd unit = Eigen::VectorXd::Ones(1);
+      variance = block->Variance(p, unit);
+      if (!undetermined_parameter[p]) *max_ratio = std::max(*max_ratio, block->Ratio(p, unit));
+    }
+    const double sd = std::sqrt(std::max(0.0, variance));
     // Exponential coefficients (every one but an offset and a spring's q0): d(e^s)/ds = e^s.
     const bool exponential = t.kind != EffectKind::kOffset && (i == 0 || t.kind != EffectKind::kSpring);
     stds[i] = undetermined_parameter[p] ? kInfinity : exponential ? values[i] * sd : sd;
@@ -216,12 +328,69 @@ std::vector<double> EffectUncertaintyOfTheFit(const RobotDynamics& model, const 
   return stds;
 }
 
+// The block sandwich (file comment): Omega from the blocks' centred scores, and the white-noise
+// and block covariances of the estimated parameters.
+BlockVariances BlockSandwich(const RobotDynamics& model, const TimeBlocks& blocks, const Eigen::VectorXd& w,
+                             const Eigen::MatrixXd& J_w_x, const FreeParameters& free, const FitHessian& hessian,
+                             const Eigen::MatrixXd& H_pinv, double s2, double rows, double p_eff) {
+  const int F = model.num_features(), n = free.size();
+  const int K = static_cast<int>(blocks.blocks.size());
+  Eigen::MatrixXd J_w_free(F, n);
+  for (int i = 0; i < n; ++i) J_w_free.col(i) = J_w_x.col(free.index[i]);
+  Eigen::MatrixXd scores(n, K);
+  double samples = 0.0;
+  for (int k = 0; k < K; ++k) {
+    const JointNormalEquations& b = blocks.blocks[k];
+    scores.col(k) = J_w_free.transpose() * (b.AtA * w - b.Atb);
+    samples += b.num_samples;
+  }
+  const Eigen::VectorXd G = scores.rowwise().sum();
+  for (int k = 0; k < K; ++k) {
+    const double share = samples > 0.0 ? blocks.blocks[k].num_samples / samples : 1.0 / K;
+    scores.col(k) -= share * G;
+  }
+  const double c = static_cast<double>(K) / (K - 1) * rows / std::max(1.0, rows - p_eff);
+  const Eigen::MatrixXd omega = c * scores * scores.transpose();
+  BlockVariances v;
+  v.laplace = s2 * H_pinv;
+  const Eigen::MatrixXd H_prior = hessian.total - hessian.data;
+  v.block = s2 * H_pinv * H_prior * H_pinv + H_pinv * omega * H_pinv;
+  v.block = 0.5 * (v.block + v.block.transpose());
+  return v;
+}
+
+// The covariance reported as a matrix (file comment): C_laplace + (C_block - C_laplace)_+, the
+// positive part taken in the Jacobi-scaled coordinates; its quadratic forms are at least both.
+Eigen::MatrixXd ReportedCovariance(const ScaledHessian& scaled, const BlockVariances& v) {
+  const int n = static_cast<int>(v.laplace.rows());
+  if (n == 0) return v.laplace;
+  // M in scaled coordinates (D^1/2 M D^1/2), its positive part, back.
+  const Eigen::VectorXd sqrt_diag = scaled.inv_sqrt_diag.cwiseInverse();
+  const Eigen::MatrixXd M = sqrt_diag.asDiagonal() * (v.block - v.laplace) * sqrt_diag.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (M + M.transpose()));
+  const Eigen::VectorXd positive = eig.eigenvalues().cwiseMax(0.0);
+  const Eigen::MatrixXd M_plus = eig.eigenvectors() * positive.asDiagonal() * eig.eigenvectors().transpose();
+  return v.laplace + scaled.inv_sqrt_diag.asDiagonal() * M_plus * scaled.inv_sqrt_diag.asDiagonal();
+}
+
 }  // namespace
 
 FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
                                       const Eigen::VectorXd& x, double prior_weight,
                                       const std::vector<bool>& frozen_bodies) {
+  return EstimateFitUncertainty(model, data, x, prior_weight, frozen_bodies, TimeBlocks{});
+}
+
+FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
+                                      const Eigen::VectorXd& x, double prior_weight,
+                                      const std::vector<bool>& frozen_bodies, const TimeBlocks& blocks) {
   CheckUncertaintyInputs(model, data, x, prior_weight, frozen_bodies);
+  for (const JointNormalEquations& b : blocks.blocks) {
+    if (b.AtA.rows() != model.num_features() || b.AtA.cols() != model.num_features() ||
+        b.Atb.size() != model.num_features()) {
+      throw std::invalid_argument("fit uncertainty: a time block's normal equations do not match the model's features");
+    }
+  }
   const int P = model.num_parameters();
   const int B = static_cast<int>(model.bodies().size());
   const FreeParameters free = ListFreeParameters(P, B, frozen_bodies);
@@ -248,7 +417,15 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   const double s2 = SquaredError(data, w) / u.dof;
   u.noise_sigma = std::sqrt(s2);
 
-  const Eigen::MatrixXd C_free = s2 * H_pinv;
+  Eigen::MatrixXd C_free = s2 * H_pinv;
+  std::optional<BlockVariances> block;
+  if (blocks.blocks.size() >= 2) {
+    block = BlockSandwich(model, blocks, w, J_w_x, free, hessian, H_pinv, s2, rows, u.effective_parameters);
+    C_free = ReportedCovariance(scaled, *block);
+    u.time_blocks = static_cast<int>(blocks.blocks.size());
+    u.block_length = blocks.block_length;
+    u.correlation_time = blocks.correlation_time;
+  }
   std::vector<bool> undetermined_parameter(n, false);
   for (int i = 0; i < n; ++i) {
     undetermined_parameter[i] = TouchesUndetermined(scaled, i, Eigen::VectorXd::Ones(1));
@@ -269,10 +446,12 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   u.body_pi_covariance.assign(B, Matrix10::Zero());
   for (int e = 0; e < B; ++e) {
     if (!frozen_bodies.empty() && frozen_bodies[e]) continue;
-    BodyUncertaintyOfTheFit(model, x, e, free, hessian, scaled, H_pinv, C_free, prior_weight, frozen_bodies, u);
+    BodyUncertaintyOfTheFit(model, x, e, free, hessian, scaled, H_pinv, C_free, prior_weight, frozen_bodies, u,
+                            block ? &*block : nullptr);
   }
   for (int k = 0; k < static_cast<int>(model.effects().size()); ++k) {
-    u.effects.push_back(EffectUncertaintyOfTheFit(model, x, k, free, C_free, undetermined_parameter));
+    u.effects.push_back(EffectUncertaintyOfTheFit(model, x, k, free, C_free, undetermined_parameter,
+                                                  block ? &*block : nullptr, &u.max_block_to_white_ratio));
   }
   return u;
 }

@@ -108,7 +108,12 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
   if (!run.failed()) {
     run.identifiability = AnalyzeIdentifiability(eq.AtA, model.FeatureNames());
     try {
-      run.uncertainty = EstimateFitUncertainty(model, eq, run.fit.x, options.prior_weight, options.frozen_bodies);
+      // The data's part of the covariance also from time blocks (the residual's correlation in
+      // time and model error; fit_uncertainty.hpp), every variance the larger of it and the
+      // white-noise one.
+      const TimeBlocks blocks = AccumulateTimeBlocks(model, train, run.fit.x);
+      run.uncertainty =
+          EstimateFitUncertainty(model, eq, run.fit.x, options.prior_weight, options.frozen_bodies, blocks);
     } catch (const std::invalid_argument& e) {
       run.uncertainty_unavailable = e.what();
     }
@@ -187,9 +192,16 @@ bool WriteBodies(std::ostringstream& out, const RobotDynamics& model, const Iden
   bool all_consistent = true;
   out << "Bodies (each in its own link frame; inertia about the COM)";
   if (run.uncertainty) {
+    const FitUncertainty& u = *run.uncertainty;
     out << "; +- one standard deviation from the fit's curvature with the torque noise estimated from the residual ("
-        << FormatNumber(run.uncertainty->noise_sigma, 4) << " N m); \"held by the prior\": the data determine it "
-        << "less than the regularizer does";
+        << FormatNumber(u.noise_sigma, 4) << " N m)";
+    if (u.time_blocks >= 2) {
+      out << ", each the larger of that and the spread of the residual's " << u.time_blocks << " time blocks of "
+          << u.block_length << " samples (the residual is correlated over " << FormatNumber(u.correlation_time, 3)
+          << " samples; the blocks' std is up to " << FormatNumber(u.max_block_to_white_ratio, 3)
+          << " times the white-noise one)";
+    }
+    out << "; \"held by the prior\": the data determine it less than the regularizer does";
   } else if (!run.uncertainty_unavailable.empty()) {
     out << "; no standard deviations: " << run.uncertainty_unavailable;
   }
@@ -375,6 +387,10 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
   if (run.uncertainty) {
     j["noise_sigma"] = run.uncertainty->noise_sigma;
     j["effective_parameters"] = run.uncertainty->effective_parameters;
+    j["uncertainty_blocks"] = {{"blocks", run.uncertainty->time_blocks},
+                               {"block_length", run.uncertainty->block_length},
+                               {"correlation_time", run.uncertainty->correlation_time},
+                               {"max_block_to_white_ratio", run.uncertainty->max_block_to_white_ratio}};
     for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
       j["bodies"][e]["uncertainty"] = BodyUncertaintyJson(run.uncertainty->bodies[e], &run.uncertainty->body_held[e]);
     }

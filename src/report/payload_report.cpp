@@ -73,6 +73,20 @@ std::string PayloadText(const PayloadIdentification& r) {
                          : "against the model (" + std::to_string(r.num_samples) + " samples; links held at the URDF)";
   s += ", RMS torque residual " + FormatNumber(r.residual_rms, 3) + " N m:\n  ";
   s += BodyUncertaintyText(r.payload, r.uncertainty, &r.held) + "\n";
+  s += "  (+- one std: the larger of the white-noise one and the spread of the residual's " +
+       std::to_string(r.time_blocks) + " time blocks of " + std::to_string(r.block_length) +
+       " samples; the residual is correlated over " + FormatNumber(r.correlation_time, 3) + " samples)\n";
+  if (r.model_error) {
+    s += "warning: the residual (" + FormatNumber(r.residual_rms, 3) + " N m RMS) is far above its sample-to-sample "
+         "noise (" + FormatNumber(r.residual_white_noise, 3) + " N m): it is mostly smooth in time, i.e. the " +
+         (r.from_difference ? std::string("difference holds more than the payload (tracking, friction)")
+                            : std::string("model (the URDF's links or the effects) is wrong, not (only) the payload")) +
+         ", or the torques were low-passed before logging. The values and their std above carry that error; " +
+         (r.from_difference ? std::string("check the pairing and the runs")
+                            : std::string("record the same trajectory without the payload and fit the difference "
+                                          "(payload --baseline)")) +
+         ".\n";
+  }
   s += "Universal Robots (URScript):\n  " + UrScriptPayload(p) + "\n";
   s += "Franka (libfranka, C++):\n  " + FrankaSetLoad(p) + "\n";
   s += "URDF:\n";
@@ -111,6 +125,16 @@ nlohmann::json PayloadJson(const PayloadIdentification& r) {
   }
   j["num_samples"] = r.num_samples;
   j["residual_rms"] = r.residual_rms;
+  j["residual_white_noise"] = r.residual_white_noise;
+  j["model_error"] = r.model_error;
+  if (r.model_error) {
+    j["advice"] = r.from_difference ? "the difference's residual is mostly smooth: check the pairing and the runs"
+                                    : "the residual is mostly smooth (model error or filtered torques): record the "
+                                      "same trajectory without the payload and fit the difference (payload --baseline)";
+  }
+  j["uncertainty_blocks"] = {{"blocks", r.time_blocks},
+                             {"block_length", r.block_length},
+                             {"correlation_time", r.correlation_time}};
   j["ur_script"] = UrScriptPayload(p);
   j["franka"] = FrankaSetLoad(p);
   j["urdf"] = UrdfPayloadLink(p, r.link);

@@ -33,6 +33,10 @@ ModelUncertainty FromFit(const FitUncertainty& fit) {
   u.held = fit.body_held;
   u.effects = fit.effects;
   u.source = "from the fit's curvature, torque noise " + FormatNumber(fit.noise_sigma, 3) + " N m estimated from the residual";
+  if (fit.time_blocks >= 2) {
+    u.source += ", each at least the spread of the residual's " + std::to_string(fit.time_blocks) + " time blocks of " +
+                std::to_string(fit.block_length) + " samples";
+  }
   return u;
 }
 

@@ -73,6 +73,24 @@
 ///   positions' mismatch before and after it (position_mismatch_unshifted, position_mismatch: the
 ///   largest joint's RMS q mismatch / its range) and mismatch_torque.
 ///
+/// Standard deviations: the fit's, with the data's part the larger of the white-noise one and the
+/// block sandwich's over the residual's time blocks (fit_uncertainty.hpp), so that a residual
+/// correlated in time or carrying model error widens them.
+///
+/// Model error. Against the model, what the URDF and the effects get wrong about the links goes
+/// into the payload and no std can say by how much. The residual shows whether there is such an
+/// error: measurement noise changes from sample to sample, a model's error follows the motion and
+/// changes smoothly. With r the residual (every joint and sample), the sample-to-sample estimate
+/// of the white part's variance is s_d^2 = mean((r_{i+1} - r_i)^2) / 2 (exact for white noise, and
+/// blind to a smooth component, whose differences are small; von Neumann, Ann. Math. Stat. 1941),
+/// and residual_rms^2 / s_d^2 = 1 / (1 - rho_1) (rho_1 the lag-1 autocorrelation). model_error is
+/// set where residual_rms > sqrt(2) s_d, i.e. where the smooth part's variance (residual_rms^2 -
+/// s_d^2) exceeds the white part's, rho_1 > 0.5: more of the residual is model than noise. For a
+/// white residual the ratio is 1 with a standard error of about 1/sqrt(2 N_rows), so sqrt(2) is no
+/// chance value on any log worth fitting. Torques low-passed before they were logged make the noise
+/// itself smooth and trip it as well; either way the std cannot vouch for the payload, and a
+/// baseline (the same trajectory without the payload, IdentifyPayloadFromDifference) cancels both.
+///
 /// Conventions: SI units (kg, m, kg m^2); the payload in its link's frame (the URDF link frame of
 /// LINK, also for a link merged by a fixed joint, e.g. tool0); inertia about the COM with the
 /// tensor's entries (Ixy the (0,1) entry, as URDF's ixy), pi order of types.hpp.
@@ -123,6 +141,11 @@ struct PayloadIdentification {
   int num_samples = 0;            ///< samples fitted (pairs, for the difference)
   double residual_rms = 0.0;      ///< [N m] RMS torque residual per joint and sample after the fit
   double noise_sigma = 0.0;       ///< [N m] the noise the uncertainty estimated from the residual
+  double residual_white_noise = 0.0;  ///< [N m] s_d: the residual's sample-to-sample (white) part (file comment)
+  bool model_error = false;       ///< residual_rms > sqrt(2) s_d: the residual is mostly smooth (file comment)
+  int time_blocks = 0;            ///< the uncertainty's time blocks (fit_uncertainty.hpp)
+  int block_length = 0;           ///< their length [samples]
+  double correlation_time = 0.0;  ///< the residual's integrated autocorrelation time [samples]
   JointIdentificationResult fit;  ///< the whole fit (x of `model`)
 };
 
