@@ -63,7 +63,8 @@ inline SimulatedLogs SimulateLogs(const RobotDynamics& model, const Eigen::Vecto
 }
 
 /// The truth: every body's theta uniform in [-spread, spread] (0.25: masses within about +-40 %,
-/// COM shifts of centimetres; 0.1: within about +-20 %, the ordinary error of a CAD model); effect
+/// COM shifts of centimetres; 0.1: within about +-20 %, the ordinary error of a CAD model), each body
+/// then pulled back toward its prior until it is well inside its region (ShrinkIntoRegion); effect
 /// coefficients from `effect_values`, cycled.
 inline Eigen::VectorXd TrueParameters(const RobotDynamics& model, const std::vector<double>& effect_values,
                                       std::uint64_t seed, double spread = 0.25) {
@@ -72,6 +73,13 @@ inline Eigen::VectorXd TrueParameters(const RobotDynamics& model, const std::vec
   for (int k = 0; k < coeffs.size(); ++k) coeffs[k] = effect_values[k % effect_values.size()];
   Eigen::VectorXd x = model.ParametersFromEffectCoefficients(coeffs);
   for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) x[i] = rng.Uniform(-spread, spread);
+  // A robot's links stay inside the regions they could occupy (body_region.hpp): a draw that leaves
+  // one is pulled back toward the prior until it is well inside (the fit's barrier acts only nearer
+  // the edge, so the truth is one the fit can reach without it).
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const EstimatedBody& b = model.bodies()[e];
+    if (b.region) x.segment<10>(10 * static_cast<int>(e)) = ShrinkIntoRegion(b.map, *b.region, x.segment<10>(10 * static_cast<int>(e)));
+  }
   return x;
 }
 

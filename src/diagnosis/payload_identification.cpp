@@ -213,6 +213,8 @@ PayloadIdentification Fit(const RobotDynamics& model, const std::string& link, c
   }
   r.residual_white_noise = diffs > 0 ? std::sqrt(sum_sq_diff / (2.0 * diffs)) : 0.0;
   r.payload = model.BodyInertia(r.body, r.fit.x);
+  r.plausibility = JudgeEstimatedBody(model.bodies()[r.body], r.fit.x.segment<10>(10 * r.body));
+  if (r.plausibility) r.region = ToString(model.bodies()[r.body].region->source);
   r.uncertainty = u.bodies[r.body];
   r.held = u.body_held[r.body];
   r.noise_sigma = u.noise_sigma;

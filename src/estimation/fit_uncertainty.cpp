@@ -1,4 +1,5 @@
 #include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/estimation/batch/region_barrier.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -218,6 +219,14 @@ FitHessian HessianOfTheFit(const RobotDynamics& model, const JointNormalEquation
     Matrix10 J_r_theta;
     LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), &J_r_theta);
     h.prior[e] = prior_weight * J_r_theta.transpose() * J_r_theta;
+    // A body against its region's wall (region_barrier.hpp) is held there by prior knowledge too:
+    // the barrier's curvature (Gauss-Newton part; zero while the body is well inside).
+    if (model.bodies()[e].region) {
+      Matrix10 H_b;
+      if (std::isfinite(RegionBarrier(model.bodies()[e], x.segment<10>(10 * e), false, nullptr, &H_b))) {
+        h.prior[e] += 0.5 * RegionBarrierWeight(data.btb, data.num_samples) * H_b;
+      }
+    }
     h.total.block<10, 10>(free.position[10 * e], free.position[10 * e]) += h.prior[e];
   }
   return h;
@@ -274,6 +283,14 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
     std_of[mci_index::kIxx + k] = &bu.inertia_about_com[k];
     std_of[10 + k] = &bu.inertia[k];
   }
+  // The variance of each theta entry a CAD drawing's error gives (header, "honest spread").
+  const InertialParams& prior = body.prior;
+  const Vector3 c0 = prior.com();
+  const double rho0 =
+      std::sqrt(std::max(0.0, (prior.second_moments_about_origin() - prior.mass() * c0 * c0.transpose()).trace() / prior.mass()));
+  Vector10 cad_variance;
+  cad_variance << kCadSpreadAlpha * kCadSpreadAlpha, Vector6::Constant(kCadSpreadShape * kCadSpreadShape),
+      Vector3::Constant(std::pow(kCadSpreadTranslation * rho0, 2));
   // Held: the prior's share of the posterior variance exceeds the data's. With y = H^+ g,
   // v_post = y^T H y = y^T H_data y + sum_b y_b^T H_prior,b y_b (over s^2).
   bool held[10] = {};
@@ -293,6 +310,7 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
       prior_share += y_b.dot(H_prior[b] * y_b);
     }
     held[q] = prior_share > y.dot(H_data * y);
+    if (held[q]) *std_of[q] = std::max(*std_of[q], std::sqrt(g.dot(cad_variance.cwiseProduct(g))));
     if (block != nullptr && !held[q]) {
       u.max_block_to_white_ratio = std::max(u.max_block_to_white_ratio, block->Ratio(first, g));
     }

@@ -88,6 +88,19 @@ BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialPara
   return RegionAround(points, prior, kSegmentRegionMargin, RegionSource::kSegment);
 }
 
+Vector10 ShrinkIntoRegion(const LogCholeskyParameterization& map, const BodyRegion& region, const Vector10& theta) {
+  double scale = 1.0;
+  for (int k = 0; k <= 60; ++k, scale *= 0.8) {
+    const Vector10 pi = map.ToPi(scale * theta);
+    if (!pi.allFinite() || !(pi[0] > 0.0)) continue;
+    const InertialParams body = InertialParams::FromVector(pi);
+    if (region.ellipsoid.Slack(body) >= kWellInsideSlack && pi[0] <= (1.0 - kWellInsideSlack) * region.max_mass) {
+      return scale * theta;
+    }
+  }
+  return Vector10::Zero();
+}
+
 double LongestSegment(const KinematicTree& tree) {
   double longest = 0.0;
   for (int b = 0; b < tree.num_bodies(); ++b) {

@@ -6,7 +6,8 @@
 
 namespace inertial {
 
-RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const InertialParams& prior, const BodyRegion& region) {
+RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const InertialParams& prior, const BodyRegion& region,
+                                      bool drawn_prior) {
   if (!(prior.mass() > 0.0)) throw std::invalid_argument("plausibility: the prior's mass is not positive");
   RegionPlausibility p;
   const double m = body.mass();
@@ -15,7 +16,8 @@ RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const Inertial
   p.mass_ratio = m / prior.mass();
   p.inside = p.slack >= 0.0 && m <= region.max_mass;
   p.on_edge = p.inside && p.slack < kRegionEdgeSlack;
-  const bool mass_ok = p.mass_ratio <= kImplausibleMassRatio && p.mass_ratio >= 1.0 / kImplausibleMassRatio;
+  const bool mass_ok =
+      !drawn_prior || (p.mass_ratio <= kImplausibleMassRatio && p.mass_ratio >= 1.0 / kImplausibleMassRatio);
   p.plausible = p.inside && mass_ok;
   std::string words;
   const auto add = [&words](const std::string& s) { words += (words.empty() ? "" : "; ") + s; };
@@ -39,7 +41,15 @@ RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const Inertial
 
 std::optional<RegionPlausibility> JudgeEstimatedBody(const EstimatedBody& body, const Vector10& theta) {
   if (!body.region || !(body.prior.mass() > 0.0)) return std::nullopt;
-  return JudgeAgainstRegion(InertialParams::FromVector(body.map.ToPi(theta)), body.prior, *body.region);
+  return JudgeAgainstRegion(InertialParams::FromVector(body.map.ToPi(theta)), body.prior, *body.region,
+                            body.name.rfind("payload@", 0) != 0);
+}
+
+std::optional<RegionPlausibility> JudgeReportedBody(const EstimatedBody& body, const InertialParams& in_report_frame) {
+  if (!body.region || !(body.prior.mass() > 0.0)) return std::nullopt;
+  // The report frame is posed in the tree body's frame: x_tree = R x_report + p.
+  const InertialParams in_tree = in_report_frame.Transformed(body.report_frame.R_AB, body.report_frame.p_AB);
+  return JudgeAgainstRegion(in_tree, body.prior, *body.region, body.name.rfind("payload@", 0) != 0);
 }
 
 }  // namespace inertial

@@ -1,6 +1,6 @@
 #include "inertial/report/identification_report.hpp"
 
-#include "inertial/model/region_plausibility.hpp"
+#include "inertial/report/plausibility_report.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <chrono>
@@ -179,10 +179,7 @@ bool WriteBody(std::ostringstream& out, const RobotDynamics& model, const Identi
       << " (mass " << FormatNumber(c.mass, 3) << " kg, triangle margin " << FormatNumber(c.min_triangle_margin, 3)
       << " kg m^2, min eig J " << FormatNumber(c.min_pseudo_inertia_eigenvalue, 3) << ")\n";
   if (const auto p = JudgeEstimatedBody(model.bodies()[e], run.fit.x.segment<10>(10 * e))) {
-    out << "    " << (p->plausible ? "plausible" : "NOT plausible") << ": region from "
-        << ToString(model.bodies()[e].region->source) << ", slack " << FormatNumber(p->slack, 3) << ", density "
-        << FormatNumber(p->density, 4) << " kg/m^3 over it, mass " << FormatNumber(p->mass_ratio, 3) << " x the URDF's"
-        << (p->words.empty() ? "" : "; " + p->words) << "\n";
+    out << "    " << PlausibilityText(model.bodies()[e], *p) << "\n";
   }
   return c.fully_consistent();
 }
@@ -212,12 +209,9 @@ bool WriteBodies(std::ostringstream& out, const RobotDynamics& model, const Iden
   }
   // What a user must not miss, once more after the numbers: bodies no link could be, or held by
   // their regions.
-  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
-    const auto p = JudgeEstimatedBody(model.bodies()[e], run.fit.x.segment<10>(10 * e));
-    if (p && !p->words.empty()) {
-      out << (p->plausible ? "Note: " : "Warning: ") << model.bodies()[e].name << ": " << p->words << "\n";
-    }
-  }
+  std::vector<std::optional<InertialParams>> fitted;
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) fitted.push_back(model.BodyInertia(e, run.fit.x));
+  out << PlausibilityWarnings(model, fitted);
   return all_consistent;
 }
 
@@ -313,14 +307,7 @@ nlohmann::json BodiesJson(const RobotDynamics& model, const Eigen::VectorXd& x, 
                         {"min_pseudo_inertia_eigenvalue", c.min_pseudo_inertia_eigenvalue}};
     b["physically_consistent"] = c.fully_consistent();
     if (const auto p = JudgeEstimatedBody(model.bodies()[e], x.segment<10>(10 * e))) {
-      b["plausibility"] = {{"region", ToString(model.bodies()[e].region->source)},
-                           {"slack", p->slack},
-                           {"density", p->density},
-                           {"mass_ratio", p->mass_ratio},
-                           {"inside", p->inside},
-                           {"on_edge", p->on_edge},
-                           {"plausible", p->plausible},
-                           {"words", p->words}};
+      b["plausibility"] = PlausibilityJson(model.bodies()[e], *p);
     }
     bodies.push_back(b);
   }

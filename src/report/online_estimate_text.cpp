@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "inertial/report/identification_report.hpp"
+#include "inertial/report/plausibility_report.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 
 namespace inertial {
@@ -22,7 +23,13 @@ std::string OnlineEstimateText(const OnlineJointEstimator& estimator) {
     } else {
       out << "  " << bodies[e].name << ": mass " << b.mass() << " kg, COM [" << b.com().transpose() << "] m\n";
     }
+    if (const std::optional<RegionPlausibility> p = JudgeReportedBody(bodies[e], b)) {
+      out << "    " << PlausibilityText(bodies[e], *p) << "\n";
+    }
   }
+  std::vector<std::optional<InertialParams>> estimate;
+  for (int e = 0; e < static_cast<int>(bodies.size()); ++e) estimate.push_back(estimator.Body(e));
+  out << PlausibilityWarnings(estimator.model(), estimate);
   return out.str();
 }
 

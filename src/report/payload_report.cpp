@@ -76,6 +76,11 @@ std::string PayloadText(const PayloadIdentification& r) {
   s += "  (+- one std: the larger of the white-noise one and the spread of the residual's " +
        std::to_string(r.time_blocks) + " time blocks of " + std::to_string(r.block_length) +
        " samples; the residual is correlated over " + FormatNumber(r.correlation_time, 3) + " samples)\n";
+  if (r.plausibility) {
+    s += "  " + std::string(r.plausibility->plausible ? "plausible" : "NOT plausible") + ": region from " + r.region +
+         ", slack " + FormatNumber(r.plausibility->slack, 3) +
+         (r.plausibility->words.empty() ? std::string() : "; " + r.plausibility->words) + "\n";
+  }
   if (r.model_error) {
     s += "warning: the residual (" + FormatNumber(r.residual_rms, 3) + " N m RMS) is far above its sample-to-sample "
          "noise (" + FormatNumber(r.residual_white_noise, 3) + " N m): it is mostly smooth in time, i.e. the " +
@@ -135,6 +140,11 @@ nlohmann::json PayloadJson(const PayloadIdentification& r) {
   j["uncertainty_blocks"] = {{"blocks", r.time_blocks},
                              {"block_length", r.block_length},
                              {"correlation_time", r.correlation_time}};
+  if (r.plausibility) {
+    j["plausibility"] = {{"region", r.region},          {"slack", r.plausibility->slack},
+                         {"inside", r.plausibility->inside}, {"on_edge", r.plausibility->on_edge},
+                         {"plausible", r.plausibility->plausible}, {"words", r.plausibility->words}};
+  }
   j["ur_script"] = UrScriptPayload(p);
   j["franka"] = FrankaSetLoad(p);
   j["urdf"] = UrdfPayloadLink(p, r.link);

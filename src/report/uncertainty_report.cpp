@@ -1,5 +1,7 @@
 #include "inertial/report/uncertainty_report.hpp"
 
+#include "inertial/report/plausibility_report.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -130,6 +132,7 @@ ModelSnapshot SnapshotWithUncertainty(const OnlineJointEstimator& estimator) {
   if (const std::optional<ModelUncertainty> u = FromOnlineEstimator(estimator)) {
     snapshot.notes = UncertaintyNotes(estimator.model(), snapshot, *u);
   }
+  AddPlausibilityNotes(estimator.model(), snapshot.bodies, &snapshot.notes);
   return snapshot;
 }
 

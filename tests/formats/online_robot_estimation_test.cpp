@@ -52,7 +52,7 @@ struct Case {
 
 const Case kLeg{"leg3.urdf", "viscous,coulomb:scale=0.05,rotor@abad:gear=6,rotor@hip:gear=6,rotor@knee:gear=9.33",
                 {0.2, 0.2, 0.2, 0.5, 0.5, 0.5}, 0.3};
-const Case kArm{"arm7.urdf", "viscous,coulomb:scale=0.05", {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8}, 0.5};
+const Case kArm{"arm7.urdf", "viscous,coulomb:scale=0.05", {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8, 0.8}, 0.3};
 
 // The case's model and logs (40 s at 200 Hz of the robot perturbed from its priors), simulated
 // once per case in a process.

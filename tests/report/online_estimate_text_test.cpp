@@ -21,11 +21,24 @@ OnlineJointEstimator Leg(EstimatorKind kind) {
 
 TEST(OnlineEstimateText, WithoutACovarianceMassAndComPerBody) {
   // Shank and foot: (0.45 kg at z = -0.13 m, 0.06 kg at z = -0.34 m) -> 0.51 kg at -0.0789 / 0.51 m.
-  EXPECT_EQ(OnlineEstimateText(Leg(EstimatorKind::kGradient)),
-            "final estimate:\n"
-            "  abad_link: mass 2 kg, COM [    0 0.055     0] m\n"
-            "  thigh: mass 1.8 kg, COM [    0 0.016 -0.07] m\n"
-            "  shank: mass 0.51 kg, COM [        0         0 -0.154706] m\n");
+  // Each body is followed by its plausibility: the estimate is the prior itself (theta = 0), so it
+  // is inside its region (joints and prior: the leg's URDF draws no shapes) at exactly the URDF's mass.
+  const std::string text = OnlineEstimateText(Leg(EstimatorKind::kGradient));
+  const std::string plausible = "    plausible: region from joints and prior, slack ";
+  const std::string lines[] = {"final estimate:\n",
+                               "  abad_link: mass 2 kg, COM [    0 0.055     0] m\n" + plausible,
+                               "  thigh: mass 1.8 kg, COM [    0 0.016 -0.07] m\n" + plausible,
+                               "  shank: mass 0.51 kg, COM [        0         0 -0.154706] m\n" + plausible};
+  size_t at = 0;
+  for (const std::string& line : lines) {
+    at = text.find(line, at);
+    ASSERT_NE(at, std::string::npos) << line << "\nin\n" << text;
+  }
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 7) << text;
+  size_t ratio = 0;
+  for (int k = 0; k < 3; ++k) ratio = text.find("kg/m^3 over it, mass 1 x the URDF's\n", ratio) + 1;
+  EXPECT_NE(ratio, 0u) << text;
+  EXPECT_EQ(text.find("Warning"), std::string::npos) << text;
 }
 
 TEST(OnlineEstimateText, WithACovarianceEveryNumberHasItsStandardDeviation) {
@@ -34,7 +47,7 @@ TEST(OnlineEstimateText, WithACovarianceEveryNumberHasItsStandardDeviation) {
   EXPECT_NE(text.find("):\n  abad_link: mass 2 +- "), std::string::npos) << text;
   EXPECT_NE(text.find("\n  thigh: mass 1.8 +- "), std::string::npos) << text;
   EXPECT_NE(text.find("\n  shank: mass 0.51 +- "), std::string::npos) << text;
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 7);  // 1 + 3 bodies x (estimate, plausibility)
   EXPECT_EQ(text.back(), '\n');
 }
 

@@ -127,7 +127,11 @@ TEST(UncertaintyReport, LinearRlsFromItsCovarianceAndNoneForTheGradientLaw) {
   OnlineEstimatorOptions o;
   o.kind = EstimatorKind::kGradient;
   EXPECT_FALSE(FromOnlineEstimator(OnlineJointEstimator(model, x0, o)).has_value());
-  EXPECT_TRUE(SnapshotWithUncertainty(OnlineJointEstimator(model, x0, o)).notes.empty());
+  // No standard deviations; only each link's plausibility (region_plausibility.hpp) is noted.
+  for (const auto& [name, note] : SnapshotWithUncertainty(OnlineJointEstimator(model, x0, o)).notes) {
+    EXPECT_EQ(note.find("standard deviations"), std::string::npos) << name << ": " << note;
+    EXPECT_EQ(note.rfind("plausible: region from ", 0), 0u) << name << ": " << note;
+  }
 
   // Linear RLS starts with std 0.3 (|w0| + 0.01) on each coefficient w: the mass's is 0.3 (m0 + 0.01)
   // and b's (w0 = e^0 = 1) is 0.3 (1 + 0.01).

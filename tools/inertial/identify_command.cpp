@@ -7,6 +7,7 @@
 #include "exit_codes.hpp"
 #include "progress.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/report/plausibility_report.hpp"
 #include "inertial/formats/joint_csv.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/sample_line_names.hpp"
@@ -119,6 +120,7 @@ int WriteOutputs(const IdentifyCommand& c, const RobotModel& robot, const RobotD
     if (c.write_urdf.empty()) return kOk;
     ModelSnapshot snapshot = SnapshotAt(model, run.fit.x);
     if (run.uncertainty) snapshot.notes = UncertaintyNotes(model, snapshot, FromFit(*run.uncertainty));
+    AddPlausibilityNotes(model, snapshot.bodies, &snapshot.notes);
     snapshot.measurement = gains;
     WriteModelUrdf(c.model, c.write_urdf, robot, model, snapshot, "identified from " + RunsName(c.data));
     std::cerr << "wrote " << c.write_urdf << ": " << model.bodies().size() << " bodies, " << model.effects().size()

@@ -49,7 +49,9 @@ CLI::App* AddSimulateCommand(CLI::App& app, SimulateCommand* c) {
                   "drawn uniform in [-P, P]: the mass is scaled by e^(2 alpha), between e^(-2P) and e^(2P); the mass "
                   "distribution is stretched by e^(d_i) along the link frame's axes and sheared by s_ij (A); the COM c0 "
                   "moves to A c0 + t, t up to P metres along each axis (so --perturb 0.2 moves COMs by up to 20 cm); "
-                  "every true body is physically consistent; 0: the URDF")
+                  "every true body is physically consistent, and one that leaves the region its link could occupy (its "
+                  "collision shapes or its joints, as identify's) is pulled back toward the URDF until it is well inside; "
+                  "0: the URDF")
       ->default_val("0");
   sub->add_option("--duration", c->duration, "seconds of log")->default_val("20");
   sub->add_option("--rate", c->rate, "sample rate [Hz]")->default_val("500");
@@ -156,6 +158,12 @@ int TrueParameters(const RobotDynamics& model, const SimulateSettings& s, Eigen:
   std::mt19937_64 rng(s.truth_seed);
   std::uniform_real_distribution<double> uniform(-s.perturb, s.perturb);
   for (int i = 0; i < 10 * static_cast<int>(model.bodies().size()); ++i) (*x)[i] = s.perturb > 0 ? uniform(rng) : 0.0;
+  // The true robot's links stay inside the regions they could occupy (body_region.hpp): a draw
+  // that leaves one is pulled back toward the URDF until it is well inside.
+  for (size_t e = 0; e < model.bodies().size(); ++e) {
+    const EstimatedBody& b = model.bodies()[e];
+    if (b.region) x->segment<10>(10 * static_cast<int>(e)) = ShrinkIntoRegion(b.map, *b.region, x->segment<10>(10 * static_cast<int>(e)));
+  }
   return kOk;
 }
 

@@ -96,11 +96,13 @@
 /// tensor's entries (Ixy the (0,1) entry, as URDF's ixy), pi order of types.hpp.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
+#include "inertial/model/region_plausibility.hpp"
 
 namespace inertial {
 
@@ -146,6 +148,10 @@ struct PayloadIdentification {
   int time_blocks = 0;            ///< the uncertainty's time blocks (fit_uncertainty.hpp)
   int block_length = 0;           ///< their length [samples]
   double correlation_time = 0.0;  ///< the residual's integrated autocorrelation time [samples]
+  /// The payload against its region (a ball of the robot's longest segment about its link,
+  /// body_region.hpp; region_plausibility.hpp), nullopt if it has none; `region` names its source.
+  std::optional<RegionPlausibility> plausibility;
+  std::string region;
   JointIdentificationResult fit;  ///< the whole fit (x of `model`)
 };
 

@@ -47,6 +47,16 @@
 /// and with the exact Hessian; see Accuracy). Effects have
 /// no prior and are never held; neither is a quantity with infinite std (nothing holds it).
 ///
+/// The honest spread of a held quantity. The posterior's curvature along what the data do not see
+/// is gamma's, a number chosen for the optimizer (eq. 14), not what anyone knows of the link: on
+/// the leg it gave a held mass +- 2 % while the truth was 40 % away. A held quantity therefore
+/// reports at least the spread a CAD drawing's error gives it: theta relative to the URDF prior
+/// distributed with independent stds kCadSpread (alpha 0.1: masses about 20 % off, std of log m =
+/// 2 std alpha; stretches d and shears s 0.15: moments up to half off at 2 sigma; translations t
+/// 0.2 rho0 per axis, rho0 = sqrt(tr(Sigma_c0) / m0) the prior's RMS radius: COMs off by centimetres,
+/// a fraction of the link's size; plausibility.hpp's account of CAD errors), pushed through the
+/// quantity's gradient: std >= sqrt(g^T diag(kCadSpread^2) g).
+///
 /// Accuracy (tests/formats/fit_uncertainty_monte_carlo_test.cpp, 100 noise draws on the bundled leg):
 /// for quantities not held, the spread of the estimates over noise draws is 0.5 - 1.1 times the
 /// reported std. Gauss-Newton drops the curvature terms weighted by the residuals, which do not
@@ -122,6 +132,10 @@ struct BodyHeldByPrior {
   std::array<bool, 3> com{};
   std::array<bool, 6> inertia_about_com{};
 };
+
+/// The std of each entry of theta (alpha, d1..d3, s12, s23, s13 dimensionless; t1..t3 as a fraction
+/// of the prior's RMS radius) that a CAD drawing's error gives (file comment, "honest spread").
+inline constexpr double kCadSpreadAlpha = 0.1, kCadSpreadShape = 0.15, kCadSpreadTranslation = 0.2;
 
 /// The uncertainty of a batch identification at its solution x (see the file comment).
 struct FitUncertainty {

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "inertial/inertia/bounding_ellipsoid.hpp"
+#include "inertial/inertia/log_cholesky.hpp"
 #include "inertial/model/kinematic_tree.hpp"
 
 namespace inertial {
@@ -44,6 +45,12 @@ namespace inertial {
 inline constexpr double kMaxRegionDensity = 7850.0;
 inline constexpr double kShapeRegionMargin = 0.10;
 inline constexpr double kSegmentRegionMargin = 0.25;
+
+/// A body whose slack s = tr(Q J) / m is at least this, and whose mass is at most 1 - this of the
+/// region's bound, is well inside its region: the fit's barrier (region_barrier.hpp) acts only
+/// below it, so such a body is fitted exactly as without the region. (s = 0.4 for a solid
+/// ellipsoid filling its region, 0 for a shell on its surface.)
+inline constexpr double kWellInsideSlack = 0.1;
 
 enum class RegionSource { kShape, kSegment, kPayloadReach, kUser };
 /// "collision geometry", "joints and prior", "payload reach", "given".
@@ -74,6 +81,12 @@ std::vector<Vector3> ShapePointsOfCylinder(const Matrix3& R, const Vector3& p, d
 /// The segment region of tree body `body` (source 2 of the file comment): its joint, the joints of
 /// its children in `tree`, dilated by the prior's RMS radius.
 BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior);
+
+/// theta (log-Cholesky relative to `map`'s prior) scaled by 0.8^k with the smallest k >= 0 that
+/// leaves the body well inside `region` (kWellInsideSlack): a random draw of a body about its prior
+/// pulled back toward the prior until the link could have it (simulation's plausible truths). 0 (the
+/// prior) if no k <= 60 does.
+Vector10 ShrinkIntoRegion(const LogCholeskyParameterization& map, const BodyRegion& region, const Vector10& theta);
 
 /// The robot's longest joint-to-joint segment: the largest |p_parent_joint| over the tree's
 /// non-rotor bodies that have a parent body [m] (0 for a robot of one body).

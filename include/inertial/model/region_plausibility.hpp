@@ -46,10 +46,15 @@ struct RegionPlausibility {
   std::string words;
 };
 
+/// `drawn_prior`: the prior is a drawing of this body (a URDF link), so its mass is a reference;
+/// false for a payload, whose prior is a guess (its mass is then not compared).
 /// @throws std::invalid_argument if the prior's mass is not positive.
-RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const InertialParams& prior, const BodyRegion& region);
+RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const InertialParams& prior, const BodyRegion& region,
+                                      bool drawn_prior = true);
 
 /// An estimated body at its theta (x's 10 entries), or nullopt if it has no region (a rotor).
 std::optional<RegionPlausibility> JudgeEstimatedBody(const EstimatedBody& body, const Vector10& theta);
+/// The same for the body as reported (RobotDynamics::BodyInertia: in its report frame).
+std::optional<RegionPlausibility> JudgeReportedBody(const EstimatedBody& body, const InertialParams& in_report_frame);
 
 }  // namespace inertial

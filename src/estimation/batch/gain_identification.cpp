@@ -1,4 +1,5 @@
 #include "inertial/estimation/batch/gain_identification.hpp"
+#include "inertial/estimation/batch/region_barrier.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,8 @@ DenseLevenbergMarquardtResult FitInLogSpace(const RobotDynamics& model, const Ga
   for (int g = 0; g < G; ++g) slot[static_cast<size_t>(p.dofs[static_cast<size_t>(g)])] = g;
   Eigen::MatrixXd J_w;
   Matrix10 J_r;
+  const JointNormalEquations eliminated = p.Eliminated();
+  const double mu = RegionBarrierWeight(eliminated.btb, eliminated.num_samples);
   auto problem = [&](const Eigen::VectorXd& z, double* cost, Eigen::VectorXd* grad, Eigen::MatrixXd* H) {
     const bool derivatives = grad != nullptr && H != nullptr;
     const Eigen::VectorXd x = z.head(P);
@@ -73,8 +76,11 @@ DenseLevenbergMarquardtResult FitInLogSpace(const RobotDynamics& model, const Ga
         H->block<10, 10>(10 * e, 10 * e) += options.prior_weight * J_r.transpose() * J_r;
       }
     }
+    // Every body inside its region, as in IdentifyJointModel (region_barrier.hpp).
+    const double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, grad, H);
+    if (!std::isfinite(barrier)) return false;
     if (derivatives) HoldParameters(options, grad, H);
-    *cost = 0.5 * (std::max(data, 0.0) + options.prior_weight * reg);
+    *cost = 0.5 * (std::max(data, 0.0) + options.prior_weight * reg + mu * barrier);
     return std::isfinite(*cost);
   };
   Eigen::VectorXd z0(P + G);

@@ -277,8 +277,7 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
   const double gamma = options.prior_weight;
   Eigen::MatrixXd J_w, AtA_J;
   const std::vector<JacobianBlock> blocks = CoefficientJacobianBlocks(model);
-  Matrix10 J_r, H_b;
-  Vector10 g_b;
+  Matrix10 J_r;
   const double mu = RegionBarrierWeight(data.btb, data.num_samples);
   // F(x) = 0.5 (||A w - tau||^2 + gamma sum d_b + mu sum b_b): data through A^T A only.
   auto problem = [&](const Eigen::VectorXd& x, double* cost, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
@@ -293,7 +292,6 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
       GaussNewtonHessian(data.AtA, J_w, blocks, F, P, AtA_J, H);
       if (options.newton) AddSecondOrderTerms(model, x, w, grad_w, H);
     }
-    double barrier = 0.0;
     for (int e = 0; e < B; ++e) {
       const Vector10 r =
           LogDetDivergenceResiduals(model.bodies()[e].map, x.segment<10>(10 * e), derivatives ? &J_r : nullptr);
@@ -302,17 +300,10 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
         g->segment<10>(10 * e) += gamma * J_r.transpose() * r;
         H->block<10, 10>(10 * e, 10 * e) += gamma * J_r.transpose() * J_r;
       }
-      // Every body inside its region (region_barrier.hpp); a frozen body sits at its prior, inside.
-      if (!model.bodies()[e].region || IsFrozen(options.frozen_bodies, e)) continue;
-      const double b = RegionBarrier(model.bodies()[e], x.segment<10>(10 * e), options.newton,
-                                     derivatives ? &g_b : nullptr, derivatives ? &H_b : nullptr);
-      if (!std::isfinite(b)) return false;  // outside: Levenberg-Marquardt rejects the step
-      barrier += b;
-      if (derivatives) {
-        g->segment<10>(10 * e) += 0.5 * mu * g_b;
-        H->block<10, 10>(10 * e, 10 * e) += 0.5 * mu * H_b;
-      }
     }
+    // Every body inside its region (region_barrier.hpp); outside, Levenberg-Marquardt rejects the step.
+    const double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, g, H);
+    if (!std::isfinite(barrier)) return false;
     if (derivatives) HoldParameters(options, g, H);
     *cost = 0.5 * (data_sq + gamma * reg + mu * barrier);
     return std::isfinite(*cost);

@@ -55,6 +55,27 @@ double RegionBarrier(const EstimatedBody& body, const Vector10& theta, bool newt
   return value;
 }
 
+double AddRegionBarriers(const RobotDynamics& model, const Eigen::VectorXd& x, double mu, bool newton,
+                         const std::vector<bool>& frozen_bodies, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
+  double sum = 0.0;
+  Vector10 g_b;
+  Matrix10 H_b;
+  const bool derivatives = g != nullptr && H != nullptr;
+  for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
+    const EstimatedBody& body = model.bodies()[static_cast<size_t>(e)];
+    if (!body.region || (!frozen_bodies.empty() && frozen_bodies[static_cast<size_t>(e)])) continue;
+    const double b = RegionBarrier(body, x.segment<10>(10 * e), newton, derivatives ? &g_b : nullptr,
+                                   derivatives ? &H_b : nullptr);
+    if (!std::isfinite(b)) return std::numeric_limits<double>::infinity();
+    sum += b;
+    if (derivatives) {
+      g->segment<10>(10 * e) += 0.5 * mu * g_b;
+      H->block<10, 10>(10 * e, 10 * e) += 0.5 * mu * H_b;
+    }
+  }
+  return sum;
+}
+
 double RegionBarrierWeight(double btb, int num_samples) {
   const double per_sample = num_samples > 0 && std::isfinite(btb) ? btb / num_samples : 0.0;
   return kRegionBarrierWeight * std::max(per_sample, 1e-12);

@@ -134,12 +134,7 @@ TEST(RunLocalBodies, AnUnknownPayloadIsFoundFromTwoRuns) {
 }
 
 TEST(RunLocalBodies, WithEveryJointLoggedWithAGainTheStatedMassFixesTheScale) {
-  // The truth of these runs (TrueParameters, spread 0.25: COM shifts up to 0.25 m) puts abad_link
-  // and the shank far outside their regions (slack -10 and -1.1, body_region.hpp): bodies no leg
-  // has. This test is of the gains' scale, so the links are fitted without regions; the regions'
-  // own effect is region_barrier_test.cpp's.
-  RobotDynamics m = Leg(true, 2.0);
-  for (int e = 0; e < 3; ++e) m.SetBodyRegion(e, std::nullopt);
+  const RobotDynamics m = Leg(true, 2.0);
   const Eigen::Vector3d gains(8.0, 11.5, 15.0);
   std::vector<JointSamples> logged = Runs().runs;
   for (JointSamples& d : logged) d.tau = d.tau * gains.asDiagonal();

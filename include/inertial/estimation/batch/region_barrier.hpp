@@ -39,12 +39,15 @@
 /// positive semi-definite part J^T (phi''(s) ds ds^T + phi''(r) dr dr^T) J.
 #pragma once
 
+#include <vector>
+
 #include "inertial/model/robot_dynamics.hpp"
 
 namespace inertial {
 
-/// s0 of phi (file comment): the barrier acts on a body whose slack falls below it.
-inline constexpr double kBarrierOnset = 0.1;
+/// s0 of phi (file comment): the barrier acts on a body whose slack falls below it
+/// (body_region.hpp's kWellInsideSlack).
+inline constexpr double kBarrierOnset = kWellInsideSlack;
 
 /// mu's share of one sample's squared torque (file comment).
 inline constexpr double kRegionBarrierWeight = 0.05;
@@ -57,6 +60,13 @@ double RegionBarrierWeight(double btb, int num_samples);
 /// g and H when not null. +infinity (g, H untouched) outside the region or where theta overflows.
 double RegionBarrier(const EstimatedBody& body, const Vector10& theta, bool newton, Vector10* g = nullptr,
                      Matrix10* H = nullptr);
+
+/// The barrier term of a whole fit: mu * sum_b b_b(theta_b) over the bodies of x that have a region
+/// and are not frozen (frozen_bodies empty: none is), with 0.5 mu times its gradient and curvature
+/// added to g and H (the fit's cost is 0.5 (... + mu sum b)) when they are not null. Returns the sum
+/// sum_b b_b unweighted, or +infinity (g, H partly updated) if a body is outside its region.
+double AddRegionBarriers(const RobotDynamics& model, const Eigen::VectorXd& x, double mu, bool newton,
+                         const std::vector<bool>& frozen_bodies, Eigen::VectorXd* g, Eigen::MatrixXd* H);
 
 /// The region's slack s = tr(Q J) / m of body `body` at theta (1 - its mass's mean normalized
 /// squared distance from the region's centre), or +infinity if it has no region.
