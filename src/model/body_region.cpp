@@ -94,7 +94,7 @@ Vector10 ShrinkIntoRegion(const LogCholeskyParameterization& map, const BodyRegi
     const Vector10 pi = map.ToPi(scale * theta);
     if (!pi.allFinite() || !(pi[0] > 0.0)) continue;
     const InertialParams body = InertialParams::FromVector(pi);
-    if (region.ellipsoid.Slack(body) >= kWellInsideSlack && pi[0] <= (1.0 - kWellInsideSlack) * region.max_mass) {
+    if (region.ellipsoid.Slack(body) >= kSimulatedTruthSlack && pi[0] <= (1.0 - kSimulatedTruthSlack) * region.max_mass) {
       return scale * theta;
     }
   }

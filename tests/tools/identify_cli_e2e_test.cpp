@@ -551,7 +551,10 @@ TEST(IdentifyCli, MotorCurrentsWithUnknownGainsOnTheArm) {
   EXPECT_TRUE(Contains(refused.err, "--run-payload")) << refused.err;
 
   // The box's mass alone known (its COM and inertia fitted with the links and gains, the box a body
-  // of the second run only): the mass fixes the scale. Measured: every gain within 0.3 %.
+  // of the second run only): the mass fixes the scale. Measured: every gain within 0.3 % on the
+  // earlier truth; on the truth drawn inside the links' regions (every link's slack above 0.2 at
+  // the fit, so the region barrier is idle) joint7's is -1.3 %: the prior's pull on the wrist's
+  // scale that gain_identification.hpp describes. Bound 1.5 %.
   const testing::CliRun m = RunCli({"identify", "--model", testing::Example("arm7.urdf"), "--effects", "gain", "--data",
                                     pa.string(), "--data", pb.string(), "--run-payload", pb.string() + "=tool0:mass=2.5",
                                     "--validate", test.string(), "--json"});
@@ -560,7 +563,7 @@ TEST(IdentifyCli, MotorCurrentsWithUnknownGainsOnTheArm) {
   for (int d = 0; d < 7; ++d) {
     const double g = mj["gains"][robot.dof_names[static_cast<size_t>(d)]]["g"];
     std::cerr << "mass only, " << robot.dof_names[static_cast<size_t>(d)] << ": gain " << g << "\n";
-    EXPECT_NEAR(g / gains[d], 1.0, 0.01) << robot.dof_names[static_cast<size_t>(d)];
+    EXPECT_NEAR(g / gains[d], 1.0, 0.015) << robot.dof_names[static_cast<size_t>(d)];
   }
   EXPECT_LT(mj["rms_validation"]["total"].get<double>(), 1.1 * sigma);
   // Nothing of the box known: nothing in N m, refused as above.

@@ -82,10 +82,14 @@ std::vector<Vector3> ShapePointsOfCylinder(const Matrix3& R, const Vector3& p, d
 /// its children in `tree`, dilated by the prior's RMS radius.
 BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior);
 
+/// The slack a simulated truth keeps at least (ShrinkIntoRegion): twice kWellInsideSlack, so that a
+/// fit of its data, which noise moves about the truth, does not reach the barrier's onset.
+inline constexpr double kSimulatedTruthSlack = 2.0 * kWellInsideSlack;
+
 /// theta (log-Cholesky relative to `map`'s prior) scaled by 0.8^k with the smallest k >= 0 that
-/// leaves the body well inside `region` (kWellInsideSlack): a random draw of a body about its prior
-/// pulled back toward the prior until the link could have it (simulation's plausible truths). 0 (the
-/// prior) if no k <= 60 does.
+/// leaves the body with slack at least kSimulatedTruthSlack and mass at most (1 - that) of the
+/// region's bound: a random draw of a body about its prior pulled back toward the prior until the
+/// link could have it (simulation's plausible truths). 0 (the prior) if no k <= 60 does.
 Vector10 ShrinkIntoRegion(const LogCholeskyParameterization& map, const BodyRegion& region, const Vector10& theta);
 
 /// The robot's longest joint-to-joint segment: the largest |p_parent_joint| over the tree's
