@@ -154,8 +154,10 @@ std::vector<BodyPlausibility> PlausibilityOf(const RobotDynamics& model, const J
     x_prior.segment<10>(10 * i).setZero();
     const InertialParams prior = model.BodyInertia(i, x_prior);
     DepartureMargins margins;
-    if (e < u.bodies.size() && e < u.body_pi_covariance.size()) {
-      margins = DepartureMarginsOf(prior, u.bodies[e], u.body_pi_covariance[e]);
+    // Whether the data establish a departure: the fit's own stds, without the CAD spread's floor
+    // that a held quantity reports (fit_uncertainty.hpp).
+    if (e < u.bodies_from_fit.size() && e < u.body_pi_covariance.size()) {
+      margins = DepartureMarginsOf(prior, u.bodies_from_fit[e], u.body_pi_covariance[e]);
     }
     try {
       out.push_back(MeasurePlausibility(model.BodyInertia(i, x), prior, margins));

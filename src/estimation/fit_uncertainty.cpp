@@ -294,6 +294,8 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
   // Held: the prior's share of the posterior variance exceeds the data's. With y = H^+ g,
   // v_post = y^T H y = y^T H_data y + sum_b y_b^T H_prior,b y_b (over s^2).
   bool held[10] = {};
+  double fit_std[10];
+  for (int q = 0; q < 10; ++q) fit_std[q] = -1.0;  // set where a quantity is judged held or not
   for (int q = 0; q < 16; ++q) {
     const Eigen::VectorXd g = G_theta.row(q).transpose();
     if (block != nullptr) *std_of[q] = std::sqrt(std::max(0.0, block->Variance(first, g)));
@@ -310,10 +312,20 @@ void BodyUncertaintyOfTheFit(const RobotDynamics& model, const Eigen::VectorXd& 
       prior_share += y_b.dot(H_prior[b] * y_b);
     }
     held[q] = prior_share > y.dot(H_data * y);
+    fit_std[q] = *std_of[q];
     if (held[q]) *std_of[q] = std::max(*std_of[q], std::sqrt(g.dot(cad_variance.cwiseProduct(g))));
     if (block != nullptr && !held[q]) {
       u.max_block_to_white_ratio = std::max(u.max_block_to_white_ratio, block->Ratio(first, g));
     }
+  }
+  // The same without the CAD spread's floor (what the fit's curvature and the residual alone say).
+  BodyUncertainty& from_fit = u.bodies_from_fit[e];
+  from_fit = bu;
+  double* from_fit_of[10] = {&from_fit.mass};
+  for (int k = 0; k < 3; ++k) from_fit_of[mci_index::kCx + k] = &from_fit.com[k];
+  for (int k = 0; k < 6; ++k) from_fit_of[mci_index::kIxx + k] = &from_fit.inertia_about_com[k];
+  for (int q = 0; q < 10; ++q) {
+    if (fit_std[q] >= 0.0) *from_fit_of[q] = fit_std[q];
   }
   BodyHeldByPrior& h = u.body_held[e];
   h.mass = held[mci_index::kMass];
@@ -460,6 +472,7 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   }
 
   u.bodies.assign(B, BodyUncertainty());
+  u.bodies_from_fit.assign(B, BodyUncertainty());
   u.body_held.assign(B, BodyHeldByPrior());
   u.body_pi_covariance.assign(B, Matrix10::Zero());
   for (int e = 0; e < B; ++e) {

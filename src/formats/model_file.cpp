@@ -163,16 +163,25 @@ RobotDynamics MakeRobotDynamics(const RobotModel& robot, const std::vector<Effec
     return true;
   };
   RobotDynamics model(robot.tree, robot.dof_names, effects, resolve, gravity);
-  // A link's own collision shapes bound it better than its segment (body_region.hpp, source 1).
+  // A link's own collision shapes bound it better than its segment (body_region.hpp, source 1);
+  // without them its segment reaches the frames fixed to it too (a flange, tool0), which the tree
+  // alone does not know.
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const EstimatedBody& body = model.bodies()[e];
     const int b = body.tree_body;
-    if (!body.region || body.region->source != RegionSource::kSegment || b >= static_cast<int>(robot.body_shape_points.size()) ||
-        robot.body_shape_points[b].size() < 4) {
+    if (!body.region || body.region->source != RegionSource::kSegment || b >= static_cast<int>(robot.body_links.size())) {
       continue;
     }
     try {
-      model.SetBodyRegion(e, RegionAround(robot.body_shape_points[b], body.prior, kShapeRegionMargin, RegionSource::kShape));
+      if (b < static_cast<int>(robot.body_shape_points.size()) && robot.body_shape_points[b].size() >= 4) {
+        model.SetBodyRegion(e, RegionAround(robot.body_shape_points[b], body.prior, kShapeRegionMargin, RegionSource::kShape));
+        continue;
+      }
+      std::vector<Vector3> fixed_frames;
+      for (const auto& [link, placement] : robot.placements) {
+        if (placement.body == b && link != robot.body_links[b]) fixed_frames.push_back(placement.X_body_link.p_AB);
+      }
+      if (!fixed_frames.empty()) model.SetBodyRegion(e, SegmentRegion(model.tree(), b, body.prior, fixed_frames));
     } catch (const std::invalid_argument&) {
       // Shapes that determine no ellipsoid (all in a plane): the segment's region stays.
     }

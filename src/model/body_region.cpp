@@ -72,7 +72,8 @@ BodyRegion RegionAround(const std::vector<Vector3>& points, const InertialParams
   return region;
 }
 
-BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior) {
+BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior,
+                         const std::vector<Vector3>& fixed_frames) {
   const Vector3 c = prior.com();
   const Matrix3 sigma_c = prior.second_moments_about_origin() - prior.mass() * c * c.transpose();
   const double rho0 = std::sqrt(sigma_c.trace() / prior.mass());
@@ -80,6 +81,7 @@ BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialPara
   for (int child = 0; child < tree.num_bodies(); ++child) {
     if (tree.parent(child) == body && !tree.is_rotor(child)) joints.push_back(tree.joint(child).p_parent_joint);
   }
+  joints.insert(joints.end(), fixed_frames.begin(), fixed_frames.end());
   std::vector<Vector3> points;
   for (const Vector3& j : joints) {
     const std::vector<Vector3> ball = ShapePointsOfSphere(j, rho0);

@@ -156,6 +156,10 @@ struct FitUncertainty {
   Eigen::MatrixXd covariance;
   /// Per estimated body (model.bodies() order), in its report frame; all 0 for a frozen body.
   std::vector<BodyUncertainty> bodies;
+  /// The same stds without the CAD spread's floor on held quantities (file comment, "honest
+  /// spread"): what the fit's curvature and residual alone give, for statistics that ask whether
+  /// the data establish a departure (diagnosis/departure_margins.hpp).
+  std::vector<BodyUncertainty> bodies_from_fit;
   /// Per estimated body (model.bodies() order): the covariance of pi in its report frame (first
   /// order; 0 for a frozen body; the undetermined directions left out, as in `covariance`).
   std::vector<Matrix10> body_pi_covariance;

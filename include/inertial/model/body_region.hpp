@@ -11,8 +11,8 @@
 ///     the margin covers what they leave out (cables, connectors) and the point sampling of round
 ///     shapes (already circumscribed, ShapePointsOfSphere).
 ///  2. Otherwise (meshes only, as most vendor URDFs name `package://` files that are not at hand,
-///     or no geometry): the link's segment, i.e. its joint (the frame origin) and the joints of the
-///     bodies it carries, each dilated by a ball of the prior's RMS radius rho0 = sqrt(tr(Sigma_c)/m)
+///     or no geometry): the link's segment, i.e. its joint (the frame origin), the joints of the
+///     bodies it carries and the frames fixed to it (a flange, tool0), each dilated by a ball of the prior's RMS radius rho0 = sqrt(tr(Sigma_c)/m)
 ///     (a link is a shell about its joint axes about as thick as its own mass is spread), with
 ///     kSegmentRegionMargin. The margin: CAD moments are up to about 50 % off (plausibility.hpp),
 ///     which is radii up to sqrt(1.5) = 1.22 times the prior's; 0.25 leaves that inside.
@@ -79,8 +79,10 @@ std::vector<Vector3> ShapePointsOfBox(const Matrix3& R, const Vector3& p, const 
 std::vector<Vector3> ShapePointsOfCylinder(const Matrix3& R, const Vector3& p, double radius, double length);
 
 /// The segment region of tree body `body` (source 2 of the file comment): its joint, the joints of
-/// its children in `tree`, dilated by the prior's RMS radius.
-BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior);
+/// its children in `tree` and `fixed_frames` (the origins, in its frame, of the frames fixed to it:
+/// a flange, tool0, a sensor; its material reaches them), dilated by the prior's RMS radius.
+BodyRegion SegmentRegion(const KinematicTree& tree, int body, const InertialParams& prior,
+                         const std::vector<Vector3>& fixed_frames = {});
 
 /// The slack a simulated truth keeps at least (ShrinkIntoRegion): twice kWellInsideSlack, so that a
 /// fit of its data, which noise moves about the truth, does not reach the barrier's onset.
