@@ -39,17 +39,21 @@ RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const Inertial
   return p;
 }
 
+bool HasDrawnPrior(const EstimatedBody& body) {
+  return body.region && body.region->source != RegionSource::kPayloadReach;
+}
+
 std::optional<RegionPlausibility> JudgeEstimatedBody(const EstimatedBody& body, const Vector10& theta) {
   if (!body.region || !(body.prior.mass() > 0.0)) return std::nullopt;
   return JudgeAgainstRegion(InertialParams::FromVector(body.map.ToPi(theta)), body.prior, *body.region,
-                            body.name.rfind("payload@", 0) != 0);
+                            HasDrawnPrior(body));
 }
 
 std::optional<RegionPlausibility> JudgeReportedBody(const EstimatedBody& body, const InertialParams& in_report_frame) {
   if (!body.region || !(body.prior.mass() > 0.0)) return std::nullopt;
   // The report frame is posed in the tree body's frame: x_tree = R x_report + p.
   const InertialParams in_tree = in_report_frame.Transformed(body.report_frame.R_AB, body.report_frame.p_AB);
-  return JudgeAgainstRegion(in_tree, body.prior, *body.region, body.name.rfind("payload@", 0) != 0);
+  return JudgeAgainstRegion(in_tree, body.prior, *body.region, HasDrawnPrior(body));
 }
 
 }  // namespace inertial

@@ -3,17 +3,11 @@
 #include "inertial/model/number_text.hpp"
 
 namespace inertial {
-namespace {
-
-bool DrawnPrior(const EstimatedBody& body) { return body.name.rfind("payload@", 0) != 0; }
-
-}  // namespace
-
 std::string PlausibilityText(const EstimatedBody& body, const RegionPlausibility& p) {
   std::string s = std::string(p.plausible ? "plausible" : "NOT plausible") + ": region from " +
                   ToString(body.region->source) + ", slack " + FormatNumber(p.slack, 3) + ", density " +
                   FormatNumber(p.density, 4) + " kg/m^3 over it";
-  if (DrawnPrior(body)) s += ", mass " + FormatNumber(p.mass_ratio, 3) + " x the URDF's";
+  if (HasDrawnPrior(body)) s += ", mass " + FormatNumber(p.mass_ratio, 3) + " x the URDF's";
   if (!p.words.empty()) s += "; " + p.words;
   return s;
 }
@@ -26,7 +20,7 @@ nlohmann::json PlausibilityJson(const EstimatedBody& body, const RegionPlausibil
                       {"on_edge", p.on_edge},
                       {"plausible", p.plausible},
                       {"words", p.words}};
-  j["mass_ratio"] = DrawnPrior(body) ? nlohmann::json(p.mass_ratio) : nlohmann::json(nullptr);
+  j["mass_ratio"] = HasDrawnPrior(body) ? nlohmann::json(p.mass_ratio) : nlohmann::json(nullptr);
   return j;
 }
 

@@ -35,9 +35,11 @@ TEST(OnlineEstimateText, WithoutACovarianceMassAndComPerBody) {
     ASSERT_NE(at, std::string::npos) << line << "\nin\n" << text;
   }
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 7) << text;
-  size_t ratio = 0;
-  for (int k = 0; k < 3; ++k) ratio = text.find("kg/m^3 over it, mass 1 x the URDF's\n", ratio) + 1;
-  EXPECT_NE(ratio, 0u) << text;
+  // Every body at exactly its URDF's mass.
+  int at_prior_mass = 0;
+  const std::string ratio = "kg/m^3 over it, mass 1 x the URDF's\n";
+  for (size_t p = text.find(ratio); p != std::string::npos; p = text.find(ratio, p + 1)) ++at_prior_mass;
+  EXPECT_EQ(at_prior_mass, 3) << text;
   EXPECT_EQ(text.find("Warning"), std::string::npos) << text;
 }
 

@@ -52,6 +52,10 @@ struct RegionPlausibility {
 RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const InertialParams& prior, const BodyRegion& region,
                                       bool drawn_prior = true);
 
+/// Whether `body`'s prior is a drawing of it (a URDF link), whose mass is a reference: every body with
+/// a region but a payload (region from its reach), whose prior is a guess.
+bool HasDrawnPrior(const EstimatedBody& body);
+
 /// An estimated body at its theta (x's 10 entries), or nullopt if it has no region (a rotor).
 std::optional<RegionPlausibility> JudgeEstimatedBody(const EstimatedBody& body, const Vector10& theta);
 /// The same for the body as reported (RobotDynamics::BodyInertia: in its report frame).
