@@ -362,7 +362,8 @@ std::vector<double> EffectUncertaintyOfTheFit(const RobotDynamics& model, const 
 // and block covariances of the estimated parameters.
 BlockVariances BlockSandwich(const RobotDynamics& model, const TimeBlocks& blocks, const Eigen::VectorXd& w,
                              const Eigen::MatrixXd& J_w_x, const FreeParameters& free, const FitHessian& hessian,
-                             const Eigen::MatrixXd& H_pinv, double s2, double rows, double p_eff) {
+                             const Eigen::MatrixXd& H_pinv, double s2, double rows, double p_eff,
+                             double data_samples) {
   const int F = model.num_features(), n = free.size();
   const int K = static_cast<int>(blocks.blocks.size());
   Eigen::MatrixXd J_w_free(F, n);
@@ -379,7 +380,10 @@ BlockVariances BlockSandwich(const RobotDynamics& model, const TimeBlocks& block
     const double share = samples > 0.0 ? blocks.blocks[k].num_samples / samples : 1.0 / K;
     scores.col(k) -= share * G;
   }
-  const double c = static_cast<double>(K) / (K - 1) * rows / std::max(1.0, rows - p_eff);
+  // Blocks of only a part of the data (a restored online fit: the header): their spread per
+  // sample taken for every sample's, N / N_blocks.
+  const double coverage = samples > 0.0 ? std::max(1.0, data_samples / samples) : 1.0;
+  const double c = coverage * static_cast<double>(K) / (K - 1) * rows / std::max(1.0, rows - p_eff);
   const Eigen::MatrixXd omega = c * scores * scores.transpose();
   BlockVariances v;
   v.laplace = s2 * H_pinv;
@@ -450,7 +454,8 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
   Eigen::MatrixXd C_free = s2 * H_pinv;
   std::optional<BlockVariances> block;
   if (blocks.blocks.size() >= 2) {
-    block = BlockSandwich(model, blocks, w, J_w_x, free, hessian, H_pinv, s2, rows, u.effective_parameters);
+    block = BlockSandwich(model, blocks, w, J_w_x, free, hessian, H_pinv, s2, rows, u.effective_parameters,
+                          static_cast<double>(data.num_samples));
     C_free = ReportedCovariance(scaled, *block);
     u.time_blocks = static_cast<int>(blocks.blocks.size());
     u.block_length = blocks.block_length;

@@ -212,8 +212,11 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
                                       const std::vector<bool>& frozen_bodies = {});
 
 /// The same with the data's part also from the block sandwich of `blocks` (file comment: each
-/// variance the larger of it and the white-noise one). `blocks` must sum to `data` (the caller's
-/// AccumulateTimeBlocks of the same samples); fewer than 2 blocks give the white-noise result.
+/// variance the larger of it and the white-noise one). `blocks` sum to `data` (the caller's
+/// AccumulateTimeBlocks of the same samples), or to a part of it: an online fit restored from a
+/// checkpoint has blocks only of the samples since (online_fit.hpp); Omega is then scaled by
+/// N / N_blocks, the blocks' spread taken as that of every sample. Fewer than 2 blocks give the
+/// white-noise result.
 /// @throws as above, and std::invalid_argument if a block does not match the model's features.
 FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
                                       const Eigen::VectorXd& x, double prior_weight,

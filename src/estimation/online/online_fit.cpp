@@ -76,6 +76,30 @@ void AddRows(const Eigen::Ref<const Eigen::MatrixXd>& At, const Eigen::Ref<const
   ++eq->num_samples;
 }
 
+// The blocks as EstimateFitUncertainty takes them: none if fewer than kMinTimeBlocks (too noisy a
+// spread: fit_uncertainty.hpp); the length reported is their mean; no correlation time (none is
+// measured online).
+TimeBlocks UsableBlocks(std::vector<JointNormalEquations> blocks) {
+  TimeBlocks tb;
+  if (static_cast<int>(blocks.size()) < kMinTimeBlocks) return tb;
+  double samples = 0.0;
+  for (const JointNormalEquations& b : blocks) samples += b.num_samples;
+  tb.block_length = static_cast<int>(std::lround(samples / static_cast<double>(blocks.size())));
+  tb.pieces = 1;
+  tb.blocks = std::move(blocks);
+  return tb;
+}
+
+// Block statistics as JointNormalEquations: the lower triangle mirrored.
+JointNormalEquations BlockEquations(const Eigen::MatrixXd& lower, const Eigen::VectorXd& s, double c, double n) {
+  JointNormalEquations b;
+  b.AtA = lower.selfadjointView<Eigen::Lower>();
+  b.Atb = s;
+  b.btb = c;
+  b.num_samples = static_cast<int>(std::min(std::round(n), 2147483647.0));
+  return b;
+}
+
 }  // namespace
 
 OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnapshot& snap,
@@ -131,9 +155,19 @@ OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnap
   }
   sol.x = result.x;
   sol.lm = result.lm;
+  // The time blocks (online_fit.hpp): the held samples kept joined the statistics now, so the
+  // open (last) block's.
+  TimeBlocks blocks;
+  if (!snap.blocks.empty()) {
+    blocks.blocks = snap.blocks;
+    for (int i = 0; i < count; ++i) {
+      if (sol.pending_kept[i]) AddRows(snap.pending_rows.middleCols(i * m, m), snap.pending_y.col(i), &blocks.blocks.back());
+    }
+  }
+  blocks = UsableBlocks(std::move(blocks.blocks));
   try {
     sol.uncertainty = std::make_shared<const FitUncertainty>(
-        EstimateFitUncertainty(model, eq, sol.x, fit.prior_weight, fit.frozen_bodies));
+        EstimateFitUncertainty(model, eq, sol.x, fit.prior_weight, fit.frozen_bodies, blocks));
   } catch (const std::invalid_argument&) {  // no residual degrees of freedom yet
   }
   sol.prediction_covariance = PredictionCovariance(model, sol.uncertainty.get(), sol.x);
@@ -175,6 +209,14 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   capacity_ = std::max(options.warmup, options.max_consecutive_outliers);
   pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
   pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
+  if (!std::isfinite(options.forgetting_time)) {  // time blocks (header): preallocated, none with forgetting
+    block_S_.assign(kMaxTimeBlocks, Eigen::MatrixXd::Zero(F_, F_));
+    block_s_.assign(kMaxTimeBlocks, Eigen::VectorXd::Zero(F_));
+    block_c_.assign(kMaxTimeBlocks, 0.0);
+    block_n_.assign(kMaxTimeBlocks, 0.0);
+    S_end_ = Eigen::MatrixXd::Zero(F_, F_);
+    s_end_ = Eigen::VectorXd::Zero(F_);
+  }
   window_r_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   window_y_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   noise_ = Eigen::VectorXd::Zero(m_);
@@ -194,6 +236,66 @@ void OnlineFit::Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, d
   c_ = lambda * c_ + y.squaredNorm();
   weight_ = lambda * weight_ + 1.0;
   added_since_solve_ = lambda * added_since_solve_ + 1.0;
+  EndBlockIfDue();
+}
+
+void OnlineFit::EndBlockIfDue() {
+  if (block_S_.empty()) return;
+  const double open = weight_ - n_end_;
+  if (!(open >= std::max(1.0, (weight_ - unblocked_) / kTargetTimeBlocks))) return;
+  if (closed_blocks_ == kMaxTimeBlocks) {
+    // The neighbours with the fewest samples together become one (the blocks stay near-equal and
+    // in the stream's order); the later slots move down by swapping (no copy).
+    int best = 0;
+    for (int k = 1; k + 1 < closed_blocks_; ++k) {
+      if (block_n_[k] + block_n_[k + 1] < block_n_[best] + block_n_[best + 1]) best = k;
+    }
+    block_S_[best] += block_S_[best + 1];
+    block_s_[best] += block_s_[best + 1];
+    block_c_[best] += block_c_[best + 1];
+    block_n_[best] += block_n_[best + 1];
+    for (int k = best + 1; k + 1 < closed_blocks_; ++k) {
+      block_S_[k].swap(block_S_[k + 1]);
+      block_s_[k].swap(block_s_[k + 1]);
+      std::swap(block_c_[k], block_c_[k + 1]);
+      std::swap(block_n_[k], block_n_[k + 1]);
+    }
+    --closed_blocks_;
+  }
+  const int k = closed_blocks_++;
+  block_S_[k] = S_.topLeftCorner(F_, F_) - S_end_;
+  S_end_ = S_.topLeftCorner(F_, F_);
+  block_s_[k] = s_ - s_end_;
+  s_end_ = s_;
+  block_c_[k] = c_ - c_end_;
+  c_end_ = c_;
+  block_n_[k] = open;
+  n_end_ = weight_;
+}
+
+void OnlineFit::ResetBlocks() {
+  closed_blocks_ = 0;
+  if (!block_S_.empty()) {
+    S_end_ = S_.topLeftCorner(F_, F_);
+    s_end_ = s_;
+  }
+  c_end_ = c_;
+  n_end_ = weight_;
+  unblocked_ = weight_;
+}
+
+std::vector<JointNormalEquations> OnlineFit::Blocks() const {
+  std::vector<JointNormalEquations> blocks;
+  if (block_S_.empty()) return blocks;
+  blocks.reserve(closed_blocks_ + 1);
+  for (int k = 0; k < closed_blocks_; ++k) {
+    blocks.push_back(BlockEquations(block_S_[k], block_s_[k], block_c_[k], block_n_[k]));
+  }
+  if (weight_ - n_end_ > 0.0) {
+    const Eigen::MatrixXd open = S_.topLeftCorner(F_, F_) - S_end_;
+    blocks.push_back(BlockEquations(open, s_ - s_end_, c_ - c_end_, weight_ - n_end_));
+  }
+  return blocks;
 }
 
 UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
@@ -266,6 +368,7 @@ void OnlineFit::Empty() {
   has_scale_ = false;
   consecutive_ = 0;
   added_since_solve_ = 0.0;
+  ResetBlocks();
   ++generation_;
 }
 
@@ -307,6 +410,7 @@ OnlineFitSnapshot OnlineFit::Snapshot() const {
   }
   snap.residuals_seen = residuals_seen_;
   snap.generation = generation_;
+  snap.blocks = Blocks();
   return snap;
 }
 
@@ -351,6 +455,7 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
     }
     pending_count_ = rest;
     if (all_kept) consecutive_ = 0;
+    EndBlockIfDue();
   }
   if (sol.prediction_covariance.rows() == F_ && sol.prediction_covariance.cols() == F_) {
     Cw_.topLeftCorner(F_, F_) = sol.prediction_covariance;
@@ -378,7 +483,9 @@ Eigen::MatrixXd OnlineFit::Covariance() const {
   const JointNormalEquations eq = Equations();
   if (static_cast<double>(eq.num_samples) * m_ <= model_.num_parameters()) return {};
   try {
-    return EstimateFitUncertainty(model_, eq, x_, options_.solve.prior_weight, options_.solve.frozen_bodies).covariance;
+    return EstimateFitUncertainty(model_, eq, x_, options_.solve.prior_weight, options_.solve.frozen_bodies,
+                                  UsableBlocks(Blocks()))
+        .covariance;
   } catch (const std::invalid_argument&) {
     return {};  // no residual degrees of freedom yet
   }
@@ -463,6 +570,8 @@ void OnlineFit::RestoreExtra(const EstimatorState& state) {
   window_next_ = 0;
   has_scale_ = false;
   consecutive_ = 0;
+  // The checkpoint keeps the sums, not the blocks: blocks of the samples from here on.
+  ResetBlocks();
   ++generation_;
 }
 

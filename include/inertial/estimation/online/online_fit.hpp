@@ -39,6 +39,26 @@
 /// samples are data, not glitches. The first `warmup` samples are held the same way until the
 /// first solve gives a noise scale.
 ///
+/// Standard deviations that cover the truth (issue 45; fit_uncertainty.hpp, "Correlated residuals
+/// and model error"). identify takes the data's part of the covariance also from a block sandwich
+/// over time blocks of its log. The online fit keeps the same blocks without keeping samples: the
+/// statistics are cumulative sums, so a block's normal equations are the difference of the sums at
+/// its two ends. At each block's end the tick copies the sums (S at the last end) and stores the
+/// difference in one of kMaxTimeBlocks preallocated slots; a block ends when it holds
+/// max(1, N / kTargetTimeBlocks) samples, so the blocks grow with the stream, and when the slots are
+/// full the two neighbours with the fewest samples together are merged (one F x F sum): between
+/// 32 and 40 blocks of roughly equal length N / 32 once N >= 32, never crossing the stream's order.
+/// identify's rule is ceil(5 tau_int) samples with at least kMinTimeBlocks = 20 blocks; N / 32 is
+/// shorter than its floor N / 20 (a little more of a long correlation missed, sqrt(2/32) instead
+/// of sqrt(2/20) relative noise in each variance), and needs no residual series, which the online
+/// fit does not keep; so no correlation time is reported. The solve passes the blocks (the open
+/// one with the held samples it kept) to EstimateFitUncertainty, used once there are
+/// kMinTimeBlocks of them. A block's end costs three F x F passes (subtract, copy, and at most one
+/// merge), once every N / 32 samples; no allocation. After a restore from a checkpoint (which keeps
+/// only the sums) the blocks cover the samples since, and Omega is scaled to the whole
+/// (fit_uncertainty.hpp); with forgetting (a finite T) samples decay within a block and no blocks
+/// are kept: the stds are the white-noise ones.
+///
 /// A change of the system (a payload picked up): more than `max_consecutive_outliers` samples in a
 /// row refused. The statistics are then emptied and the estimator starts over from its current
 /// estimate, warm-up included (the old samples describe another body).
@@ -50,6 +70,7 @@
 #include <limits>
 
 #include <memory>
+#include <vector>
 
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/estimation/batch/joint_identification.hpp"
@@ -95,6 +116,9 @@ struct OnlineFitSnapshot {
   Eigen::MatrixXd window_r;        ///< m x count: recent prediction errors
   Eigen::MatrixXd window_y;        ///< m x count: their measured torques
   long long residuals_seen = 0;    ///< rows x joints judged so far (for k)
+  /// The time blocks of the accepted samples (the last one the block still open; none with
+  /// forgetting; after a restore, of the samples since): file comment.
+  std::vector<JointNormalEquations> blocks;
   std::uint64_t generation = 0;    ///< increments when the statistics are emptied
 };
 
@@ -116,6 +140,9 @@ struct OnlineFitSolution {
 /// IdentifyJointModel for options that do not fit the model.
 OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnapshot& snapshot,
                                  const OnlineFitOptions& options);
+
+/// Time blocks kept for the sandwich covariance (file comment, "Standard deviations").
+inline constexpr int kMaxTimeBlocks = 40, kTargetTimeBlocks = 32;
 
 class OnlineFit final : public RecursiveEstimator {
  public:
@@ -182,6 +209,9 @@ class OnlineFit final : public RecursiveEstimator {
   void Empty();
   void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
   void ResolveHeld(bool kept);
+  void EndBlockIfDue();
+  void ResetBlocks();
+  std::vector<JointNormalEquations> Blocks() const;  ///< closed ones and the open one (allocates)
 
   RobotDynamics model_;
   OnlineFitOptions options_;
@@ -205,6 +235,15 @@ class OnlineFit final : public RecursiveEstimator {
   bool solved_ = false, has_scale_ = false;
   double added_since_solve_ = 0.0;  ///< weight added since the last solve, decayed as the rest
   std::shared_ptr<const FitUncertainty> uncertainty_;
+  /// Time blocks (file comment): the closed ones' statistics (lower triangles, F x F) and sample
+  /// counts, the sums at the last block's end, and the samples before the first block.
+  std::vector<Eigen::MatrixXd> block_S_;
+  std::vector<Eigen::VectorXd> block_s_;
+  std::vector<double> block_c_, block_n_;
+  int closed_blocks_ = 0;
+  Eigen::MatrixXd S_end_;
+  Eigen::VectorXd s_end_;
+  double c_end_ = 0.0, n_end_ = 0.0, unblocked_ = 0.0;
   std::uint64_t held_kept_ = 0, held_refused_ = 0;
   long long residuals_seen_ = 0;
   int consecutive_ = 0, solves_ = 0;
