@@ -210,12 +210,10 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
   pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
   if (!std::isfinite(options.forgetting_time)) {  // time blocks (header): preallocated, none with forgetting
-    block_S_.assign(kMaxTimeBlocks, Eigen::MatrixXd::Zero(F_, F_));
-    block_s_.assign(kMaxTimeBlocks, Eigen::VectorXd::Zero(F_));
-    block_c_.assign(kMaxTimeBlocks, 0.0);
-    block_n_.assign(kMaxTimeBlocks, 0.0);
-    S_end_ = Eigen::MatrixXd::Zero(F_, F_);
-    s_end_ = Eigen::VectorXd::Zero(F_);
+    ends_S_.assign(kMaxTimeBlocks + 1, Eigen::MatrixXd::Zero(F_, F_));
+    ends_s_.assign(kMaxTimeBlocks + 1, Eigen::VectorXd::Zero(F_));
+    ends_c_.assign(kMaxTimeBlocks + 1, 0.0);
+    ends_n_.assign(kMaxTimeBlocks + 1, 0.0);
   }
   window_r_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
   window_y_ = Eigen::MatrixXd::Zero(m_, options.noise_window);
@@ -240,60 +238,53 @@ void OnlineFit::Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, d
 }
 
 void OnlineFit::EndBlockIfDue() {
-  if (block_S_.empty()) return;
-  const double open = weight_ - n_end_;
-  if (!(open >= std::max(1.0, (weight_ - unblocked_) / kTargetTimeBlocks))) return;
-  if (closed_blocks_ == kMaxTimeBlocks) {
-    // The neighbours with the fewest samples together become one (the blocks stay near-equal and
-    // in the stream's order); the later slots move down by swapping (no copy).
-    int best = 0;
-    for (int k = 1; k + 1 < closed_blocks_; ++k) {
-      if (block_n_[k] + block_n_[k + 1] < block_n_[best] + block_n_[best + 1]) best = k;
+  if (ends_S_.empty()) return;
+  const double open = weight_ - ends_n_[ends_];
+  if (!(open >= std::max(kMinBlockSamples, (weight_ - ends_n_[0]) / kTargetTimeBlocks))) return;
+  if (ends_ == kMaxTimeBlocks) {
+    // The neighbours with the fewest samples together become one: their common end is dropped
+    // (the later ends move down by swapping, no copy), so the blocks stay near-equal and in order.
+    int drop = 1;
+    for (int k = 2; k < ends_; ++k) {
+      if (ends_n_[k + 1] - ends_n_[k - 1] < ends_n_[drop + 1] - ends_n_[drop - 1]) drop = k;
     }
-    block_S_[best] += block_S_[best + 1];
-    block_s_[best] += block_s_[best + 1];
-    block_c_[best] += block_c_[best + 1];
-    block_n_[best] += block_n_[best + 1];
-    for (int k = best + 1; k + 1 < closed_blocks_; ++k) {
-      block_S_[k].swap(block_S_[k + 1]);
-      block_s_[k].swap(block_s_[k + 1]);
-      std::swap(block_c_[k], block_c_[k + 1]);
-      std::swap(block_n_[k], block_n_[k + 1]);
+    for (int k = drop; k < ends_; ++k) {
+      ends_S_[k].swap(ends_S_[k + 1]);
+      ends_s_[k].swap(ends_s_[k + 1]);
+      std::swap(ends_c_[k], ends_c_[k + 1]);
+      std::swap(ends_n_[k], ends_n_[k + 1]);
     }
-    --closed_blocks_;
+    --ends_;
   }
-  const int k = closed_blocks_++;
-  block_S_[k] = S_.topLeftCorner(F_, F_) - S_end_;
-  S_end_ = S_.topLeftCorner(F_, F_);
-  block_s_[k] = s_ - s_end_;
-  s_end_ = s_;
-  block_c_[k] = c_ - c_end_;
-  c_end_ = c_;
-  block_n_[k] = open;
-  n_end_ = weight_;
+  // The sums at the new end: the only F x F pass of a block's end.
+  ++ends_;
+  ends_S_[ends_] = S_.topLeftCorner(F_, F_);
+  ends_s_[ends_] = s_;
+  ends_c_[ends_] = c_;
+  ends_n_[ends_] = weight_;
 }
 
 void OnlineFit::ResetBlocks() {
-  closed_blocks_ = 0;
-  if (!block_S_.empty()) {
-    S_end_ = S_.topLeftCorner(F_, F_);
-    s_end_ = s_;
-  }
-  c_end_ = c_;
-  n_end_ = weight_;
-  unblocked_ = weight_;
+  ends_ = 0;
+  if (ends_S_.empty()) return;
+  ends_S_[0] = S_.topLeftCorner(F_, F_);  // the sums the blocks start from (zero, or restored)
+  ends_s_[0] = s_;
+  ends_c_[0] = c_;
+  ends_n_[0] = weight_;
 }
 
 std::vector<JointNormalEquations> OnlineFit::Blocks() const {
   std::vector<JointNormalEquations> blocks;
-  if (block_S_.empty()) return blocks;
-  blocks.reserve(closed_blocks_ + 1);
-  for (int k = 0; k < closed_blocks_; ++k) {
-    blocks.push_back(BlockEquations(block_S_[k], block_s_[k], block_c_[k], block_n_[k]));
+  if (ends_S_.empty()) return blocks;
+  blocks.reserve(ends_ + 1);
+  for (int k = 1; k <= ends_; ++k) {
+    const Eigen::MatrixXd d = ends_S_[k] - ends_S_[k - 1];
+    blocks.push_back(BlockEquations(d, ends_s_[k] - ends_s_[k - 1], ends_c_[k] - ends_c_[k - 1],
+                                    ends_n_[k] - ends_n_[k - 1]));
   }
-  if (weight_ - n_end_ > 0.0) {
-    const Eigen::MatrixXd open = S_.topLeftCorner(F_, F_) - S_end_;
-    blocks.push_back(BlockEquations(open, s_ - s_end_, c_ - c_end_, weight_ - n_end_));
+  if (weight_ - ends_n_[ends_] > 0.0) {
+    const Eigen::MatrixXd open = S_.topLeftCorner(F_, F_) - ends_S_[ends_];
+    blocks.push_back(BlockEquations(open, s_ - ends_s_[ends_], c_ - ends_c_[ends_], weight_ - ends_n_[ends_]));
   }
   return blocks;
 }

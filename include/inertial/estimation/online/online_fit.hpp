@@ -43,19 +43,19 @@
 /// and model error"). identify takes the data's part of the covariance also from a block sandwich
 /// over time blocks of its log. The online fit keeps the same blocks without keeping samples: the
 /// statistics are cumulative sums, so a block's normal equations are the difference of the sums at
-/// its two ends. At each block's end the tick copies the sums (S at the last end) and stores the
-/// difference in one of kMaxTimeBlocks preallocated slots; a block ends when it holds
-/// max(1, N / kTargetTimeBlocks) samples, so the blocks grow with the stream, and when the slots are
-/// full the two neighbours with the fewest samples together are merged (one F x F sum): between
-/// 32 and 40 blocks of roughly equal length N / 32 once N >= 32, never crossing the stream's order.
-/// identify's rule is ceil(5 tau_int) samples with at least kMinTimeBlocks = 20 blocks; N / 32 is
-/// shorter than its floor N / 20 (a little more of a long correlation missed, sqrt(2/32) instead
-/// of sqrt(2/20) relative noise in each variance), and needs no residual series, which the online
-/// fit does not keep; so no correlation time is reported. The solve passes the blocks (the open
-/// one with the held samples it kept) to EstimateFitUncertainty, used once there are
-/// kMinTimeBlocks of them. A block's end costs three F x F passes (subtract, copy, and at most one
-/// merge), once every N / 32 samples; no allocation. After a restore from a checkpoint (which keeps
-/// only the sums) the blocks cover the samples since, and Omega is scaled to the whole
+/// its two ends. At each block's end the tick copies the sums into one of kMaxTimeBlocks + 1
+/// preallocated slots (one F x F copy, no allocation); a block ends when it holds
+/// max(kMinBlockSamples, N / kTargetTimeBlocks) samples, so the blocks grow with the stream, and
+/// when the slots are full the two neighbours with the fewest samples together are merged by
+/// dropping their common end (slots swapped, nothing copied): 32 to 40 blocks of roughly equal
+/// length N / 32 once N >= 160, in the stream's order. The differences are formed by Snapshot(),
+/// off the tick. identify's rule is ceil(5 tau_int) samples with at least kMinTimeBlocks = 20
+/// blocks; N / 32 is shorter than its floor N / 20 (a little more of a long correlation missed,
+/// sqrt(2/32) instead of sqrt(2/20) relative noise in each variance), and needs no residual
+/// series, which the online fit does not keep; so no correlation time is reported. The solve
+/// passes the blocks (the open one with the held samples it kept) to EstimateFitUncertainty, used
+/// once there are kMinTimeBlocks of them. After a restore from a checkpoint (which keeps only the
+/// sums) the blocks cover the samples since, and Omega is scaled to the whole
 /// (fit_uncertainty.hpp); with forgetting (a finite T) samples decay within a block and no blocks
 /// are kept: the stds are the white-noise ones.
 ///
@@ -141,8 +141,11 @@ struct OnlineFitSolution {
 OnlineFitSolution SolveOnlineFit(const RobotDynamics& model, const OnlineFitSnapshot& snapshot,
                                  const OnlineFitOptions& options);
 
-/// Time blocks kept for the sandwich covariance (file comment, "Standard deviations").
+/// Time blocks kept for the sandwich covariance (file comment, "Standard deviations"); a block
+/// holds at least kMinBlockSamples: five times a white residual's correlation time (1 sample),
+/// identify's shortest block, which also bounds how often the tick copies the sums early on.
 inline constexpr int kMaxTimeBlocks = 40, kTargetTimeBlocks = 32;
+inline constexpr double kMinBlockSamples = 5.0;
 
 class OnlineFit final : public RecursiveEstimator {
  public:
@@ -235,15 +238,13 @@ class OnlineFit final : public RecursiveEstimator {
   bool solved_ = false, has_scale_ = false;
   double added_since_solve_ = 0.0;  ///< weight added since the last solve, decayed as the rest
   std::shared_ptr<const FitUncertainty> uncertainty_;
-  /// Time blocks (file comment): the closed ones' statistics (lower triangles, F x F) and sample
-  /// counts, the sums at the last block's end, and the samples before the first block.
-  std::vector<Eigen::MatrixXd> block_S_;
-  std::vector<Eigen::VectorXd> block_s_;
-  std::vector<double> block_c_, block_n_;
-  int closed_blocks_ = 0;
-  Eigen::MatrixXd S_end_;
-  Eigen::VectorXd s_end_;
-  double c_end_ = 0.0, n_end_ = 0.0, unblocked_ = 0.0;
+  /// Time blocks (file comment): the sums (S's lower triangle F x F, s, c, the sample count) at
+  /// the blocks' ends; entry 0 is where the blocks start (zero, or a restored checkpoint's sums),
+  /// entries 1..ends_ the closed blocks' ends, block k the difference of ends k and k - 1.
+  std::vector<Eigen::MatrixXd> ends_S_;
+  std::vector<Eigen::VectorXd> ends_s_;
+  std::vector<double> ends_c_, ends_n_;
+  int ends_ = 0;
   std::uint64_t held_kept_ = 0, held_refused_ = 0;
   long long residuals_seen_ = 0;
   int consecutive_ = 0, solves_ = 0;
