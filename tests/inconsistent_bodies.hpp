@@ -27,9 +27,11 @@ inline std::vector<Vector10> InconsistentBodies(unsigned seed) {
   bodies.push_back(BodyFromSecondMoments(1.0, Vector3(0.1, 0.2, -0.05)).vector());  // triangle violated
   for (int n = 0; n < 500; ++n) {  // plates in general position (L = 0 only up to rounding)
     const Pose pose = rng.RandomPose<Pose>(2.0);
-    bodies.push_back(BodyFromSecondMoments(rng.Uniform(0.1, 10.0),
-                                           Vector3(rng.Uniform(0.01, 1.0), rng.Uniform(0.01, 1.0), 0.0), pose)
-                         .vector());
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const double Ly = rng.Uniform(0.01, 1.0);
+    const double Lx = rng.Uniform(0.01, 1.0);
+    const double mass = rng.Uniform(0.1, 10.0);
+    bodies.push_back(BodyFromSecondMoments(mass, Vector3(Lx, Ly, 0.0), pose).vector());
   }
   Vector10 nan = box;
   nan[pi_index::kIxy] = std::numeric_limits<double>::quiet_NaN();

@@ -15,6 +15,12 @@
 namespace inertial::testing {
 
 /// Uniform draws on [lo, hi] from a local, seeded generator (never Eigen::Random).
+/// Draw once per statement (or in a braced list, which is evaluated left to right): the order in
+/// which a call's arguments, or the operands of +, * and the like, are evaluated is unspecified,
+/// and GCC takes arguments right to left on x86-64 but left to right on aarch64, so
+/// `f(rng.Uniform(..), rng.Uniform(..))` gives the two builds different bodies. Sites that drew
+/// that way were rewritten to draw in the order the x86-64 build drew, keeping its measured figures;
+/// CTest layers.DrawsAreSequenced (tests/layers/check_draw_order.py) reports new ones.
 class Rng {
  public:
   explicit Rng(unsigned seed) : gen_(seed) {}
@@ -28,7 +34,12 @@ class Rng {
   }
   /// A uniformly distributed rotation (from a uniformly distributed unit quaternion).
   Matrix3 Rotation() {
-    Eigen::Vector4d q(Normal(), Normal(), Normal(), Normal());
+    // Sequenced draws, w last as on x86-64 (it took the four constructor arguments right to left).
+    const double z = Normal();
+    const double y = Normal();
+    const double x = Normal();
+    const double w = Normal();
+    Eigen::Vector4d q(w, x, y, z);
     q.normalize();
     return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
   }

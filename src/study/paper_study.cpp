@@ -62,12 +62,20 @@ Vector6 StudyWrench(double t) {
 InertialParams SampleTableIBody(std::uint64_t seed, int body_index) {
   std::mt19937_64 gen = BodyGenerator(seed, body_index, 0);
   auto uniform = [&gen](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(gen); };
+  // z, then y, then x: the order in which x86-64's GCC evaluated Vector3(uniform(..), uniform(..),
+  // uniform(..)) (right to left; aarch64's goes left to right), so that both draw the same bodies.
+  auto uniform3 = [&uniform](double lo, double hi) {
+    const double z = uniform(lo, hi);
+    const double y = uniform(lo, hi);
+    const double x = uniform(lo, hi);
+    return Vector3(x, y, z);
+  };
   const double m = uniform(0.01, 1.0);
-  const Vector3 c(uniform(-0.5, 0.5), uniform(-0.5, 0.5), uniform(-0.5, 0.5));
-  const Vector3 L(uniform(0.01, 1.0), uniform(0.01, 1.0), uniform(0.01, 1.0));
+  const Vector3 c = uniform3(-0.5, 0.5);
+  const Vector3 L = uniform3(0.01, 1.0);
   Vector3 beta;
   do {  // uniform in the ball of radius 2 pi, by rejection from the cube
-    beta = Vector3(uniform(-2 * kPi, 2 * kPi), uniform(-2 * kPi, 2 * kPi), uniform(-2 * kPi, 2 * kPi));
+    beta = uniform3(-2 * kPi, 2 * kPi);
   } while (beta.norm() > 2 * kPi);
   Pose pose;
   const double angle = beta.norm();

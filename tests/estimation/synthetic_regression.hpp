@@ -20,7 +20,9 @@ inline LinearRegression SyntheticRegression(Rng& rng, const InertialParams& body
   reg.A.resize(6 * rows6, 10);
   reg.b.resize(6 * rows6);
   for (int i = 0; i < rows6; ++i) {
-    const Matrix6x10 Y = RigidBodyRegressor(rng.UniformVector<6>(-2, 2), rng.UniformVector<6>(-2, 2));
+    // One draw per statement, xi_dot first, as the x86-64 build drew them (see Rng).
+    const Vector6 xi_dot = rng.UniformVector<6>(-2, 2);
+    const Matrix6x10 Y = RigidBodyRegressor(rng.UniformVector<6>(-2, 2), xi_dot);
     reg.A.block<6, 10>(6 * i, 0) = Y;
     Vector6 n;
     for (int k = 0; k < 6; ++k) n[k] = rng.Normal(noise);

@@ -356,8 +356,12 @@ JointSamples RandomSamples(int n, const std::vector<std::string>& joints, Rng& r
     s.t[i] = t;
     t += rng.Uniform(1e-4, 1e-2);
     for (Eigen::MatrixXd* matrix : {&s.q, &s.qd, &s.qdd, &s.tau}) {
-      // Values over many magnitudes, with full 53-bit mantissas.
-      for (int j = 0; j < m; ++j) (*matrix)(i, j) = rng.Normal() * std::pow(10.0, rng.Uniform(-12.0, 12.0));
+      // Values over many magnitudes, with full 53-bit mantissas. Sequenced draws (see testing::Rng),
+      // in the order GCC evaluated the two factors on x86-64.
+      for (int j = 0; j < m; ++j) {
+        const double mantissa = rng.Normal();
+        (*matrix)(i, j) = mantissa * std::pow(10.0, rng.Uniform(-12.0, 12.0));
+      }
     }
   }
   s.q(0, 0) = -0.0;

@@ -64,10 +64,15 @@ std::string RandomTreeUrdf(unsigned seed, int n_links) {
     const double u = rng.Uniform(0, 1);
     const std::string type = u < 0.3 ? "revolute" : u < 0.5 ? "continuous" : u < 0.7 ? "prismatic" : "fixed";
     const std::string name = "link" + std::to_string(k);
-    Vector3 axis(rng.Normal(), rng.Normal(), rng.Normal());
+    // One draw per statement, here and below, in the order the x86-64 build drew them (see testing::Rng).
+    const double axis_z = rng.Normal();
+    const double axis_y = rng.Normal();
+    Vector3 axis(rng.Normal(), axis_y, axis_z);
     axis *= rng.Uniform(0.2, 3.0) / axis.norm();
-    body += JointXml("joint" + std::to_string(k), type, "link" + std::to_string(parent), name,
-                     rng.UniformVector<3>(-0.5, 0.5), rng.UniformVector<3>(-pi, pi), axis);
+    const Vector3 joint_rpy = rng.UniformVector<3>(-pi, pi);
+    const Vector3 joint_xyz = rng.UniformVector<3>(-0.5, 0.5);
+    body += JointXml("joint" + std::to_string(k), type, "link" + std::to_string(parent), name, joint_xyz, joint_rpy,
+                     axis);
     if (type == "fixed" && rng.Uniform(0, 1) < 0.5) {
       body += LinkXml(name);
       continue;
@@ -78,7 +83,9 @@ std::string RandomTreeUrdf(unsigned seed, int n_links) {
     D(0, 0) = m / 12 * (size.y() * size.y() + size.z() * size.z());
     D(1, 1) = m / 12 * (size.x() * size.x() + size.z() * size.z());
     D(2, 2) = m / 12 * (size.x() * size.x() + size.y() * size.y());
-    body += LinkXml(name, InertialXml(m, rng.UniformVector<3>(-0.2, 0.2), rng.UniformVector<3>(-pi, pi), D));
+    const Vector3 com_rpy = rng.UniformVector<3>(-pi, pi);
+    const Vector3 com_xyz = rng.UniformVector<3>(-0.2, 0.2);
+    body += LinkXml(name, InertialXml(m, com_xyz, com_rpy, D));
   }
   return RobotXml("random" + std::to_string(seed), body);
 }

@@ -13,7 +13,8 @@ namespace inertial {
 namespace {
 
 Matrix3 RandomRotation(testing::Rng& rng) {
-  return Eigen::AngleAxisd(rng.Uniform(-M_PI, M_PI), rng.UniformVector<3>(-1, 1).normalized()).toRotationMatrix();
+  const Vector3 axis = rng.UniformVector<3>(-1, 1).normalized();  // before the angle, as on x86-64 (see testing::Rng)
+  return Eigen::AngleAxisd(rng.Uniform(-M_PI, M_PI), axis).toRotationMatrix();
 }
 
 // A solid ellipsoid's region is itself: its slack is 1 - E[|u|^2] over the unit ball = 1 - 3/5 = 0.4

@@ -68,7 +68,13 @@ Vector10 ReferencePi(const Vector10& phi) {
   return BodyFromSecondMoments(phi[kMass], phi.segment<3>(kLx), pose).vector();
 }
 
-Vector3 RandomDirection(Rng& rng) { return Vector3(rng.Normal(), rng.Normal(), rng.Normal()).normalized(); }
+Vector3 RandomDirection(Rng& rng) {
+  // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+  const double z = rng.Normal();
+  const double y = rng.Normal();
+  const double x = rng.Normal();
+  return Vector3(x, y, z).normalized();
+}
 
 // A random fully consistent body: mass, COM, uniformly random rotation, second moments.
 InertialParams RandomBody(Rng& rng) {
@@ -96,7 +102,8 @@ double SingularValueRatio(const Matrix10& J) {
 TEST(EigenvalueRotation, ExpMatchesAngleAxis) {
   Rng rng(101);
   for (int n = 0; n < 2000; ++n) {
-    const Vector3 beta = rng.Uniform(0.0, 3.0 * kPi) * RandomDirection(rng);
+    const Vector3 direction = RandomDirection(rng);  // drawn before the angle, as on x86-64 (see testing::Rng)
+    const Vector3 beta = rng.Uniform(0.0, 3.0 * kPi) * direction;
     EXPECT_LT(RelativeError(RotationFromExponentialCoordinates(beta), AngleAxisRotation(beta)), 1e-14)
         << beta.transpose();
   }
@@ -110,7 +117,8 @@ TEST(EigenvalueRotation, DerivativeMatchesGallegoYezziAndCentralDifferences) {
   Rng rng(102);
   const Vector3 zero = Vector3::Zero();
   for (int n = 0; n < 1000; ++n) {
-    const Vector3 beta = rng.Uniform(0.05, 2.5 * kPi) * RandomDirection(rng);
+    const Vector3 direction = RandomDirection(rng);  // drawn before the angle, as on x86-64 (see testing::Rng)
+    const Vector3 beta = rng.Uniform(0.05, 2.5 * kPi) * direction;
     std::array<Matrix3, 3> dR;
     RotationFromExponentialCoordinates(beta, &dR);
     for (int k = 0; k < 3; ++k) {
@@ -151,7 +159,8 @@ TEST(EigenvalueRotation, DerivativeMatchesGallegoYezziAndCentralDifferences) {
 TEST(EigenvalueRotation, LogInvertsExp) {
   Rng rng(103);
   for (int n = 0; n < 5000; ++n) {
-    const Vector3 beta = rng.Uniform(0.0, kPi * (1.0 - 1e-9)) * RandomDirection(rng);
+    const Vector3 direction = RandomDirection(rng);  // drawn before the angle, as on x86-64 (see testing::Rng)
+    const Vector3 beta = rng.Uniform(0.0, kPi * (1.0 - 1e-9)) * direction;
     EXPECT_LT(RelativeError(ExponentialCoordinatesOfRotation(AngleAxisRotation(beta)), beta), 1e-12)
         << beta.transpose();
   }
@@ -188,16 +197,22 @@ TEST(EigenvalueParameterization, ToPiMatchesBodyFromSecondMoments) {
   EXPECT_EQ(param.name(), "eigenvalue");
   Rng rng(104);
   for (int n = 0; n < 2000; ++n) {
-    const Vector10 phi = Phi(rng.Uniform(0.01, 10.0), rng.UniformVector<3>(-2.0, 2.0), rng.UniformVector<3>(-4.0, 4.0),
-                             rng.UniformVector<3>(1e-3, 2.0));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(1e-3, 2.0);
+    const Vector3 beta = rng.UniformVector<3>(-4.0, 4.0);
+    const Vector3 c = rng.UniformVector<3>(-2.0, 2.0);
+    const Vector10 phi = Phi(rng.Uniform(0.01, 10.0), c, beta, L);
     const Vector10 pi = param.ToPi(phi);
     EXPECT_LT(RelativeError(pi, ReferencePi(phi)), 1e-13) << phi.transpose();
     EXPECT_TRUE(IsPhysicallyConsistent(InertialParams::FromVector(pi))) << phi.transpose();
   }
   // Negative mass or second moments: finite pi (not consistent), still the same formula.
   for (int n = 0; n < 500; ++n) {
-    const Vector10 phi = Phi(rng.Uniform(-5.0, 5.0), rng.UniformVector<3>(-2.0, 2.0), rng.UniformVector<3>(-4.0, 4.0),
-                             rng.UniformVector<3>(-2.0, 2.0));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(-2.0, 2.0);
+    const Vector3 beta = rng.UniformVector<3>(-4.0, 4.0);
+    const Vector3 c = rng.UniformVector<3>(-2.0, 2.0);
+    const Vector10 phi = Phi(rng.Uniform(-5.0, 5.0), c, beta, L);
     const Vector10 pi = param.ToPi(phi);
     ASSERT_TRUE(pi.allFinite()) << phi.transpose();
     EXPECT_LT(RelativeError(pi, ReferencePi(phi)), 1e-13) << phi.transpose();
@@ -214,8 +229,11 @@ TEST(EigenvalueParameterization, JacobianMatchesCentralDifferences) {
   Rng rng(105);
   std::vector<Vector10> points;
   for (int n = 0; n < 500; ++n) {
-    points.push_back(Phi(rng.Uniform(-3.0, 10.0), rng.UniformVector<3>(-2.0, 2.0), rng.UniformVector<3>(-4.0, 4.0),
-                         rng.UniformVector<3>(-1.0, 2.0)));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(-1.0, 2.0);
+    const Vector3 beta = rng.UniformVector<3>(-4.0, 4.0);
+    const Vector3 c = rng.UniformVector<3>(-2.0, 2.0);
+    points.push_back(Phi(rng.Uniform(-3.0, 10.0), c, beta, L));
   }
   // Hard points for the rotation: beta = 0, tiny, at the series switch, near and at pi, near 2 pi.
   for (double angle : {0.0, 1e-8, 1e-3, kPi - 1e-6, kPi, 2.0 * kPi - 1e-2}) {
@@ -304,8 +322,11 @@ TEST(EigenvalueParameterization, YieldsConsistentBodyIffMassAndSecondMomentsAreP
   Rng rng(113);
   int yes = 0, no = 0;
   for (int n = 0; n < 4000; ++n) {
-    Vector10 phi = Phi(rng.Uniform(-1.0, 3.0), rng.UniformVector<3>(-1.0, 1.0), rng.UniformVector<3>(-4.0, 4.0),
-                       rng.UniformVector<3>(-0.5, 1.0));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(-0.5, 1.0);
+    const Vector3 beta = rng.UniformVector<3>(-4.0, 4.0);
+    const Vector3 c = rng.UniformVector<3>(-1.0, 1.0);
+    Vector10 phi = Phi(rng.Uniform(-1.0, 3.0), c, beta, L);
     // Keep away from the boundary m = 0, L = 0, where the numerical check is decided by rounding.
     for (int i : {kMass, kLx, kLy, kLz}) {
       if (std::abs(phi[i]) < 0.05) phi[i] = 0.05;
@@ -337,8 +358,11 @@ TEST(EigenvalueSingularity, DeterminantHasTheClosedForm) {
   const EigenvalueParameterization param;
   Rng rng(109);
   for (int n = 0; n < 2000; ++n) {
-    const Vector10 phi = Phi(rng.Uniform(-3.0, 5.0), rng.UniformVector<3>(-2.0, 2.0), rng.UniformVector<3>(-5.0, 5.0),
-                             rng.UniformVector<3>(-1.0, 2.0));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(-1.0, 2.0);
+    const Vector3 beta = rng.UniformVector<3>(-5.0, 5.0);
+    const Vector3 c = rng.UniformVector<3>(-2.0, 2.0);
+    const Vector10 phi = Phi(rng.Uniform(-3.0, 5.0), c, beta, L);
     Matrix10 J;
     param.ToPi(phi, &J);
     const double closed = EigenvalueJacobianDeterminant(phi);

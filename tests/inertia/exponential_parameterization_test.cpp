@@ -272,10 +272,15 @@ TEST(ExponentialParameterization, RoundTripPiXPi) {
   bodies.push_back(InertialParams::FromPseudoInertia(Matrix4::Identity()));
   for (int n = 0; n < 50; ++n) {
     Pose pose;
-    bodies.push_back(SolidSphere(rng.Uniform(0.1, 5.0), rng.Uniform(0.05, 1.0), pose));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const double radius = rng.Uniform(0.05, 1.0);
+    bodies.push_back(SolidSphere(rng.Uniform(0.1, 5.0), radius, pose));
     pose.R_BC = rng.Rotation();
     pose.p_BoCo_B = rng.UniformVector<3>(-1.0, 1.0);
-    bodies.push_back(SolidCylinder(rng.Uniform(0.1, 5.0), rng.Uniform(0.05, 0.5), rng.Uniform(0.1, 1.0), pose));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const double length = rng.Uniform(0.1, 1.0);
+    const double cylinder_radius = rng.Uniform(0.05, 0.5);
+    bodies.push_back(SolidCylinder(rng.Uniform(0.1, 5.0), cylinder_radius, length, pose));
   }
   double worst = 0.0;
   for (const InertialParams& body : bodies) {

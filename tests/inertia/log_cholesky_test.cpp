@@ -20,6 +20,22 @@ using testing::RelativeError;
 using testing::Rng;
 using namespace theta_index;
 
+// Reference bodies of 0.1 to 3 kg, 5 cm to 1 m. One draw per statement, the last dimension first
+// and the mass last, as the x86-64 build drew SolidBox's and SolidEllipsoid's arguments (see testing::Rng).
+InertialParams RandomBox(Rng& rng, const Pose& pose) {
+  const double z = rng.Uniform(0.05, 1.0);
+  const double y = rng.Uniform(0.05, 1.0);
+  const double x = rng.Uniform(0.05, 1.0);
+  return SolidBox(rng.Uniform(0.1, 3.0), x, y, z, pose);
+}
+
+InertialParams RandomEllipsoid(Rng& rng, const Pose& pose) {
+  const double c = rng.Uniform(0.05, 1.0);
+  const double b = rng.Uniform(0.05, 1.0);
+  const double a = rng.Uniform(0.05, 1.0);
+  return SolidEllipsoid(rng.Uniform(0.1, 3.0), a, b, c, pose);
+}
+
 // The closed form of pi(theta) equals pi of the matrix product U U^T (eq. 7-8), entry by entry.
 TEST(LogCholesky, ClosedFormMatchesMatrixProduct) {
   Rng rng(11);
@@ -198,8 +214,9 @@ TEST(LogCholesky, RoundTripPiThetaPi) {
   const LogCholeskyParameterization param;
   for (int n = 0; n < 10000; ++n) {
     const Pose pose = rng.RandomPose<Pose>(1.0);
-    const InertialParams body =
-        BodyFromSecondMoments(rng.Uniform(0.01, 10.0), rng.UniformVector<3>(1e-4, 1.0), pose);
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Vector3 L = rng.UniformVector<3>(1e-4, 1.0);
+    const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.01, 10.0), L, pose);
     const Vector10 theta = param.ThetaOf(body);
     EXPECT_LT(RelativeError(param.ToPi(theta), body.vector()), 1e-12);
   }
@@ -261,8 +278,8 @@ TEST(LogCholesky, InverseRefusesInconsistentBodies) {
 TEST(LogCholeskyRelative, MassAndComOfAPerturbedBody) {
   Rng rng(17);
   for (int n = 0; n < 200; ++n) {
-    const InertialParams reference = SolidBox(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0),
-                                              rng.Uniform(0.05, 1.0), rng.RandomPose<Pose>(0.5));
+    const Pose pose = rng.RandomPose<Pose>(0.5);  // before the box, as on x86-64 (the last argument; see RandomBox)
+    const InertialParams reference = RandomBox(rng, pose);
     const LogCholeskyParameterization param(reference);
     const Vector10 theta = rng.UniformVector<10>(-0.2, 0.2);
     const InertialParams body = InertialParams::FromVector(param.ToPi(theta));
@@ -280,8 +297,7 @@ TEST(LogCholeskyRelative, PhysicalMeaningOfTheParameters) {
   Rng rng(16);
   for (int n = 0; n < 200; ++n) {
     const Pose pose = rng.RandomPose<Pose>(0.5);
-    const InertialParams reference = SolidBox(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0),
-                                              rng.Uniform(0.05, 1.0), pose);
+    const InertialParams reference = RandomBox(rng, pose);
     const LogCholeskyParameterization param(reference);
     EXPECT_LT(RelativeError(param.ThetaOf(reference), Vector10::Zero()), 1e-12);
     EXPECT_LT(RelativeError(param.ToPi(Vector10::Zero()), reference.vector()), 1e-13);
@@ -314,8 +330,7 @@ TEST(LogCholeskyRelative, JacobianMatchesCentralDifferencesAndRoundTrips) {
   Rng rng(17);
   for (int n = 0; n < 200; ++n) {
     const Pose pose = rng.RandomPose<Pose>(0.5);
-    const InertialParams reference =
-        SolidEllipsoid(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), pose);
+    const InertialParams reference = RandomEllipsoid(rng, pose);
     const LogCholeskyParameterization param(reference);
     const Vector10 theta = rng.UniformVector<10>(-2.0, 2.0);
     Matrix10 J;
@@ -336,8 +351,7 @@ TEST(LogCholeskyRelative, ContractedHessianMatchesDifferencesOfTheJacobian) {
     const Pose pose = rng.RandomPose<Pose>(0.5);
     const LogCholeskyParameterization param =
         n % 4 == 0 ? LogCholeskyParameterization()
-                   : LogCholeskyParameterization(SolidEllipsoid(rng.Uniform(0.1, 3.0), rng.Uniform(0.05, 1.0),
-                                                                rng.Uniform(0.05, 1.0), rng.Uniform(0.05, 1.0), pose));
+                   : LogCholeskyParameterization(RandomEllipsoid(rng, pose));
     const Vector10 theta = rng.UniformVector<10>(-1.5, 1.5);
     const Vector10 g = rng.UniformVector<10>(-1.0, 1.0);
     const std::function<Vector10(const Vector10&)> gradient = [&](const Vector10& x) {

@@ -32,11 +32,27 @@ inline std::vector<InertialParams> ConditionedBodies(unsigned seed, int n) {
   for (int k = 0; k < n; ++k) {
     const Pose pose = rng.RandomPose<Pose>(0.5);
     const double m = rng.Uniform(0.1, 10.0);
+    // One draw per statement, the last dimension first, as the x86-64 build drew them (see Rng).
     switch (k % 3) {
-      case 0: bodies.push_back(SolidBox(m, rng.Uniform(0.05, 1), rng.Uniform(0.05, 1), rng.Uniform(0.05, 1), pose)); break;
-      case 1: bodies.push_back(SolidCylinder(m, rng.Uniform(0.025, 0.5), rng.Uniform(0.05, 1), pose)); break;
-      default:
-        bodies.push_back(SolidEllipsoid(m, rng.Uniform(0.025, 0.5), rng.Uniform(0.025, 0.5), rng.Uniform(0.025, 0.5), pose));
+      case 0: {
+        const double z = rng.Uniform(0.05, 1);
+        const double y = rng.Uniform(0.05, 1);
+        const double x = rng.Uniform(0.05, 1);
+        bodies.push_back(SolidBox(m, x, y, z, pose));
+        break;
+      }
+      case 1: {
+        const double length = rng.Uniform(0.05, 1);
+        const double radius = rng.Uniform(0.025, 0.5);
+        bodies.push_back(SolidCylinder(m, radius, length, pose));
+        break;
+      }
+      default: {
+        const double c = rng.Uniform(0.025, 0.5);
+        const double b = rng.Uniform(0.025, 0.5);
+        const double a = rng.Uniform(0.025, 0.5);
+        bodies.push_back(SolidEllipsoid(m, a, b, c, pose));
+      }
     }
   }
   return bodies;

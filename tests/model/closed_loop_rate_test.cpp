@@ -98,9 +98,12 @@ KinematicTree RandomChain(Rng& rng, int n) {
     j.R_parent_joint = rng.Rotation();
     j.p_parent_joint = rng.UniformVector<3>(-0.3, 0.3);
     j.axis = rng.UniformVector<3>(-1, 1).normalized();
-    tree.AddBody("b" + std::to_string(i), i - 1, j,
-                 BodyFromSecondMoments(rng.Uniform(0.2, 2.0), rng.UniformVector<3>(0.001, 0.03),
-                                       Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)}));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Pose pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)};
+    const Vector3 L = rng.UniformVector<3>(0.001, 0.03);
+    const double mass = rng.Uniform(0.2, 2.0);
+    const InertialParams body = BodyFromSecondMoments(mass, L, pose);
+    tree.AddBody("b" + std::to_string(i), i - 1, j, body);
   }
   return tree;
 }

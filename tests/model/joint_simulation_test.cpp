@@ -37,18 +37,22 @@ KinematicTree RandomTree(Rng& rng) {
     j.R_parent_joint = rng.Rotation();
     j.p_parent_joint = rng.UniformVector<3>(-0.4, 0.4);
     j.axis = rng.UniformVector<3>(-1, 1).normalized();
-    const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.2, 3.0), rng.UniformVector<3>(0.001, 0.05),
-                                                      Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)});
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Pose pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)};
+    const Vector3 L = rng.UniformVector<3>(0.001, 0.05);
+    const double mass = rng.Uniform(0.2, 3.0);
+    const InertialParams body = BodyFromSecondMoments(mass, L, pose);
     tree.AddBody("b" + std::to_string(i), parents[i], j, body);
   }
   JointModel r;
   r.name = "rotor_of_b0";
   r.R_parent_joint = rng.Rotation();
   r.axis = rng.UniformVector<3>(-1, 1).normalized();
-  tree.AddRotor(r.name, -1, r,
-                BodyFromSecondMoments(0.3, rng.UniformVector<3>(1e-5, 1e-4),
-                                      Pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)}),
-                0, 8.0);
+  // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+  const Pose rotor_pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)};
+  const Vector3 rotor_L = rng.UniformVector<3>(1e-5, 1e-4);
+  const InertialParams rotor = BodyFromSecondMoments(0.3, rotor_L, rotor_pose);
+  tree.AddRotor(r.name, -1, r, rotor, 0, 8.0);
   return tree;
 }
 

@@ -26,8 +26,11 @@ KinematicTree RandomTree(Rng& rng) {
     j.R_parent_joint = rng.Rotation();
     j.p_parent_joint = rng.UniformVector<3>(-0.4, 0.4);
     j.axis = rng.UniformVector<3>(-1, 1).normalized();
-    const InertialParams body = BodyFromSecondMoments(rng.Uniform(0.2, 3.0), rng.UniformVector<3>(0.001, 0.05),
-                                                      Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)});
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Pose pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)};
+    const Vector3 L = rng.UniformVector<3>(0.001, 0.05);
+    const double mass = rng.Uniform(0.2, 3.0);
+    const InertialParams body = BodyFromSecondMoments(mass, L, pose);
     tree.AddBody("b" + std::to_string(i), parents[i], j, body);
   }
   // Two geared rotors: one on the base driving body 0's joint, one on body 1 driving body 3's joint.
@@ -37,8 +40,11 @@ KinematicTree RandomTree(Rng& rng) {
     j.R_parent_joint = rng.Rotation();
     j.p_parent_joint = rng.UniformVector<3>(-0.1, 0.1);
     j.axis = rng.UniformVector<3>(-1, 1).normalized();
-    const InertialParams rotor = BodyFromSecondMoments(rng.Uniform(0.1, 0.5), rng.UniformVector<3>(1e-5, 1e-3),
-                                                       Pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)});
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Pose pose{rng.Rotation(), rng.UniformVector<3>(-0.01, 0.01)};
+    const Vector3 L = rng.UniformVector<3>(1e-5, 1e-3);
+    const double mass = rng.Uniform(0.1, 0.5);
+    const InertialParams rotor = BodyFromSecondMoments(mass, L, pose);
     tree.AddRotor(j.name, parent, j, rotor, tree.dof_index(driven), ratio);
   }
   return tree;

@@ -14,7 +14,9 @@ using testing::Rng;
 
 InertialParams RandomBody(Rng& rng) {
   const Pose pose = rng.RandomPose<Pose>(0.5);
-  return BodyFromSecondMoments(rng.Uniform(0.1, 3.0), rng.UniformVector<3>(0.01, 1.0), pose);
+  // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+  const Vector3 L = rng.UniformVector<3>(0.01, 1.0);
+  return BodyFromSecondMoments(rng.Uniform(0.1, 3.0), L, pose);
 }
 
 // Independent reference 1: eq. (12) with the 6x6 matrices, I xi_dot + xi x* I xi - [h x g; m g].

@@ -23,9 +23,12 @@ KinematicTree Chain(Rng& rng) {
     j.p_parent_joint = rng.UniformVector<3>(-0.3, 0.3);
     j.R_parent_joint = rng.Rotation();
     j.axis = axes[i];
-    tree.AddBody("l" + std::to_string(i), i - 1, j,
-                 BodyFromSecondMoments(rng.Uniform(0.5, 3), rng.UniformVector<3>(1e-3, 0.03),
-                                       Pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)}));
+    // One draw per statement, in the order the x86-64 build drew them (see testing::Rng).
+    const Pose pose{rng.Rotation(), rng.UniformVector<3>(-0.2, 0.2)};
+    const Vector3 L = rng.UniformVector<3>(1e-3, 0.03);
+    const double mass = rng.Uniform(0.5, 3);
+    const InertialParams body = BodyFromSecondMoments(mass, L, pose);
+    tree.AddBody("l" + std::to_string(i), i - 1, j, body);
   }
   return tree;
 }

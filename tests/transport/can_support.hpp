@@ -14,7 +14,8 @@ namespace inertial::testing {
 
 inline CanFrame RandomFrame(Rng& rng) {
   CanFrame f;
-  f.t = std::floor(rng.Uniform(0, 2e9)) + std::floor(rng.Uniform(0, 1e6)) * 1e-6;
+  const double seconds = std::floor(rng.Uniform(0, 2e9));  // drawn first, as GCC did (see testing::Rng)
+  f.t = seconds + std::floor(rng.Uniform(0, 1e6)) * 1e-6;
   const double kind = rng.Uniform(0, 1);
   f.extended = kind < 0.4;
   f.id = static_cast<std::uint32_t>(rng.Uniform(0, f.extended ? 0x1FFFFFFF : 0x7FF));

@@ -185,7 +185,10 @@ TEST(OnlineBodyEstimator, FaultsAreRejectedAndTheEstimateRecovers) {
       expected_out_of_order += 2;
     }
     if (k >= 2000 && k < 2040) {
-      for (int i = 0; i < 6; ++i) s.wrench[i] += 100 * sigma * (rng.Uniform(0, 1) < 0.5 ? -1 : 1) * rng.Uniform(0.5, 1.5);
+      for (int i = 0; i < 6; ++i) {
+        const int sign = rng.Uniform(0, 1) < 0.5 ? -1 : 1;  // drawn first, as GCC did (see testing::Rng)
+        s.wrench[i] += 100 * sigma * sign * rng.Uniform(0.5, 1.5);
+      }
     }
     est.Update(s);
     ASSERT_TRUE(est.estimator().parameters().allFinite());
