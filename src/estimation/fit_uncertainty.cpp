@@ -407,7 +407,52 @@ Eigen::MatrixXd ReportedCovariance(const ScaledHessian& scaled, const BlockVaria
   return v.laplace + scaled.inv_sqrt_diag.asDiagonal() * M_plus * scaled.inv_sqrt_diag.asDiagonal();
 }
 
+// The coefficients' covariance and its parts (header, "Combinations"): each part of x's
+// covariance pushed through J_w (frozen bodies' columns left out: their coefficients are fixed).
+CoefficientCovariance CoefficientCovarianceOfTheFit(const Eigen::MatrixXd& J_w_x, const FreeParameters& free,
+                                                    const FitHessian& hessian, const ScaledHessian& scaled,
+                                                    const Eigen::MatrixXd& H_pinv, const Eigen::MatrixXd& C_free,
+                                                    double s2, const BlockVariances* block, double prior_weight) {
+  const int F = static_cast<int>(J_w_x.rows()), n = free.size();
+  Eigen::MatrixXd J(F, n);
+  for (int i = 0; i < n; ++i) J.col(i) = J_w_x.col(free.index[i]);
+  auto symmetric = [](const Eigen::MatrixXd& m) -> Eigen::MatrixXd { return 0.5 * (m + m.transpose()); };
+  const Eigen::MatrixXd JH = J * H_pinv;
+  CoefficientCovariance c;
+  c.total = symmetric(J * C_free * J.transpose());
+  c.data = symmetric(s2 * JH * hessian.data * JH.transpose());
+  c.prior = symmetric(s2 * JH * (hessian.total - hessian.data) * JH.transpose());
+  // BlockVariances::block is the prior's part plus H^-1 Omega H^-1.
+  if (block != nullptr) c.block_data = symmetric(J * block->block * J.transpose()) - c.prior;
+  const Eigen::MatrixXd J_scaled = J * scaled.inv_sqrt_diag.asDiagonal();
+  c.undetermined_moves = J_scaled * scaled.undetermined;
+  c.scaled_gradient_gram = J_scaled * J_scaled.transpose();
+  c.prior_acts = prior_weight > 0.0;
+  return c;
+}
+
 }  // namespace
+
+CombinationUncertainty UncertaintyOfCombination(const CoefficientCovariance& c, const Eigen::VectorXd& k) {
+  if (k.size() != c.total.rows() || !k.allFinite()) {
+    throw std::invalid_argument("combination uncertainty: k must be " + std::to_string(c.total.rows()) +
+                                " finite numbers (one per coefficient)");
+  }
+  CombinationUncertainty r;
+  if (c.undetermined_moves.cols() > 0) {
+    // As TouchesUndetermined: g = J_w^T k, D^-1/2 g's component along Z against its length.
+    const double along = (c.undetermined_moves.transpose() * k).norm();
+    if (along > kUndeterminedComponent * std::sqrt(std::max(0.0, k.dot(c.scaled_gradient_gram * k)))) {
+      r.std = kInfinity;
+      return r;
+    }
+  }
+  const double v_prior = k.dot(c.prior * k), v_data = k.dot(c.data * k);
+  const double v_block = c.block_data.size() > 0 ? k.dot(c.block_data * k) : 0.0;
+  r.std = std::sqrt(std::max(0.0, v_prior + std::max(v_data, v_block)));
+  r.held_by_prior = c.prior_acts && v_prior > v_data;
+  return r;
+}
 
 FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
                                       const Eigen::VectorXd& x, double prior_weight,
@@ -489,6 +534,8 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
     u.effects.push_back(EffectUncertaintyOfTheFit(model, x, k, free, C_free, undetermined_parameter,
                                                   block ? &*block : nullptr, &u.max_block_to_white_ratio));
   }
+  u.coefficients = CoefficientCovarianceOfTheFit(J_w_x, free, hessian, scaled, H_pinv, C_free, s2,
+                                                 block ? &*block : nullptr, prior_weight);
   return u;
 }
 
