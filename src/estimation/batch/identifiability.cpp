@@ -29,11 +29,13 @@ std::string Describe(const std::vector<std::pair<std::string, double>>& terms) {
   return s + " leaves every torque unchanged";
 }
 
-// "a + 2.94 b - c": a combination's terms as a sum (coefficients 1 unwritten).
+// "a + 2.94 b - c": a combination's terms as a sum (coefficients 1 unwritten). Four digits: betas
+// are often products of link lengths, 0.075^2 = 0.005625 would round to 0.00563 or 0.00562 by
+// its last bit at three.
 std::string CombinationText(const std::vector<std::pair<std::string, double>>& terms) {
   std::string s = terms[0].first;
   for (size_t i = 1; i < terms.size(); ++i) {
-    const std::string c = FormatNumber(std::abs(terms[i].second), 3);
+    const std::string c = FormatNumber(std::abs(terms[i].second), 4);
     s += (terms[i].second < 0 ? " - " : " + ") + (c == "1" ? "" : c + " ") + terms[i].first;
   }
   return s;
