@@ -2,6 +2,7 @@
 #include "inertial/estimation/batch/region_barrier.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -407,7 +408,64 @@ Eigen::MatrixXd ReportedCovariance(const ScaledHessian& scaled, const BlockVaria
   return v.laplace + scaled.inv_sqrt_diag.asDiagonal() * M_plus * scaled.inv_sqrt_diag.asDiagonal();
 }
 
+// The coefficients' covariance and its parts (header, "Combinations"): each part of x's
+// covariance pushed through J_w (frozen bodies' columns left out: their coefficients are fixed).
+// J_w is block diagonal (10 x 10 per body, 1 or 2 per effect) and H_prior block diagonal per
+// body: as sparse matrices their products cost O(n^2), and the one dense product left is
+// H^-1 (H_prior H^-1); the data's part is then s^2 H^-1 - the prior's (H^-1 H H^-1 = H^-1). At 91
+// coefficients (a 7-joint arm with three effects) it takes 0.35 ms (dense products: 2 ms; the
+// rest of EstimateFitUncertainty 12 ms).
+CoefficientCovariance CoefficientCovarianceOfTheFit(const Eigen::MatrixXd& J_w_x, const FreeParameters& free,
+                                                    const FitHessian& hessian, const ScaledHessian& scaled,
+                                                    const Eigen::MatrixXd& H_pinv, const Eigen::MatrixXd& C_free,
+                                                    double s2, const BlockVariances* block, double prior_weight) {
+  const int F = static_cast<int>(J_w_x.rows()), n = free.size();
+  Eigen::MatrixXd J_dense(F, n);
+  for (int i = 0; i < n; ++i) J_dense.col(i) = J_w_x.col(free.index[i]);
+  const Eigen::SparseMatrix<double> J = J_dense.sparseView(0.0, 0.0);  // exact zeros only
+  auto push = [&](const Eigen::MatrixXd& C_x) -> Eigen::MatrixXd {  // J C_x J^T, symmetrized
+    const Eigen::MatrixXd C = J * (J * C_x).transpose();  // C_x symmetric: (J C_x)^T = C_x J^T
+    return 0.5 * (C + C.transpose());
+  };
+  const Eigen::SparseMatrix<double> H_prior = (hessian.total - hessian.data).sparseView(0.0, 0.0);
+  const Eigen::MatrixXd prior_x = s2 * H_pinv * (H_prior * H_pinv);
+  CoefficientCovariance c;
+  c.total = push(C_free);
+  c.prior = push(prior_x);
+  c.data = push(s2 * H_pinv) - c.prior;
+  // BlockVariances::block is the prior's part plus H^-1 Omega H^-1.
+  if (block != nullptr) c.block_data = push(block->block) - c.prior;
+  const Eigen::SparseMatrix<double> J_scaled =
+      (J_dense * scaled.inv_sqrt_diag.asDiagonal()).sparseView(0.0, 0.0);
+  c.undetermined_moves = J_scaled * scaled.undetermined;
+  // Sparse times dense: Eigen's sparse-sparse product took 4 ms here at 91 coefficients.
+  c.scaled_gradient_gram = J_scaled * Eigen::MatrixXd(J_scaled.transpose());
+  c.prior_acts = prior_weight > 0.0;
+  return c;
+}
+
 }  // namespace
+
+CombinationUncertainty UncertaintyOfCombination(const CoefficientCovariance& c, const Eigen::VectorXd& k) {
+  if (k.size() != c.total.rows() || !k.allFinite()) {
+    throw std::invalid_argument("combination uncertainty: k must be " + std::to_string(c.total.rows()) +
+                                " finite numbers (one per coefficient)");
+  }
+  CombinationUncertainty r;
+  if (c.undetermined_moves.cols() > 0) {
+    // As TouchesUndetermined: g = J_w^T k, D^-1/2 g's component along Z against its length.
+    const double along = (c.undetermined_moves.transpose() * k).norm();
+    if (along > kUndeterminedComponent * std::sqrt(std::max(0.0, k.dot(c.scaled_gradient_gram * k)))) {
+      r.std = kInfinity;
+      return r;
+    }
+  }
+  const double v_prior = k.dot(c.prior * k), v_data = k.dot(c.data * k);
+  const double v_block = c.block_data.size() > 0 ? k.dot(c.block_data * k) : 0.0;
+  r.std = std::sqrt(std::max(0.0, v_prior + std::max(v_data, v_block)));
+  r.held_by_prior = c.prior_acts && v_prior > v_data;
+  return r;
+}
 
 FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNormalEquations& data,
                                       const Eigen::VectorXd& x, double prior_weight,
@@ -489,6 +547,8 @@ FitUncertainty EstimateFitUncertainty(const RobotDynamics& model, const JointNor
     u.effects.push_back(EffectUncertaintyOfTheFit(model, x, k, free, C_free, undetermined_parameter,
                                                   block ? &*block : nullptr, &u.max_block_to_white_ratio));
   }
+  u.coefficients = CoefficientCovarianceOfTheFit(J_w_x, free, hessian, scaled, H_pinv, C_free, s2,
+                                                 block ? &*block : nullptr, prior_weight);
   return u;
 }
 

@@ -3,9 +3,11 @@
 #include "inertial/report/plausibility_report.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "inertial/inertia/consistency.hpp"
@@ -265,6 +267,78 @@ void WriteIdentifiability(std::ostringstream& out, const IdentifiabilityReport& 
   }
 }
 
+// Each base combination's value at the fit, its std (nullopt without the fit's uncertainty) and
+// whether the prior holds it.
+struct CombinationEstimate {
+  double value = 0;
+  std::optional<double> std;
+  bool held_by_prior = false;
+};
+
+std::vector<CombinationEstimate> EstimateCombinations(const RobotDynamics& model, const IdentificationRun& run) {
+  std::vector<CombinationEstimate> estimates;
+  const std::vector<BaseCombination>& combinations = run.identifiability.base_combinations;
+  if (combinations.empty()) return estimates;
+  const Eigen::VectorXd w = model.Coefficients(run.fit.x);
+  for (const BaseCombination& c : combinations) {
+    const Eigen::VectorXd k = c.Vector(static_cast<int>(w.size()));
+    CombinationEstimate e;
+    e.value = k.dot(w);
+    if (run.uncertainty) {
+      const CombinationUncertainty u = UncertaintyOfCombination(run.uncertainty->coefficients, k);
+      e.std = u.std;
+      e.held_by_prior = u.held_by_prior;
+    }
+    estimates.push_back(e);
+  }
+  return estimates;
+}
+
+// A text report is read by a person: past a screenful the list buries the rest of the report, and
+// the combinations the data determine well carry no news. The least certain ones are those a
+// reader acts on (more excitation, or a question of what the model lacks); --json has them all.
+constexpr int kMaxCombinationLines = 30;
+
+// The identifiable combinations: each with its value and std, at most kMaxCombinationLines of
+// them (the least certain, by std relative to the value), listed in column order.
+void WriteBaseCombinations(std::ostringstream& out, const RobotDynamics& model, const IdentificationRun& run) {
+  const IdentifiabilityReport& id = run.identifiability;
+  if (id.num_parameters == 0) return;  // not analysed (the fit failed)
+  const std::vector<BaseCombination>& combinations = id.base_combinations;
+  const std::vector<CombinationEstimate> estimates = EstimateCombinations(model, run);
+  const int count = static_cast<int>(combinations.size());
+  out << "\nIdentifiable combinations (base parameters): " << count << " of " << id.num_parameters
+      << ", what the torques determine (each an independent coefficient plus the dependent ones regrouped into it,"
+      << " in the first one's units; value";
+  if (run.uncertainty) out << " +- one standard deviation of the fit";
+  out << ")";
+  std::vector<int> shown(count);
+  for (int i = 0; i < count; ++i) shown[i] = i;
+  if (count > kMaxCombinationLines) {
+    if (run.uncertainty) {
+      auto relative = [&](int i) {
+        const double sd = *estimates[i].std, v = std::abs(estimates[i].value);
+        return sd == 0.0 ? 0.0 : v > 0.0 ? sd / v : std::numeric_limits<double>::infinity();
+      };
+      std::stable_sort(shown.begin(), shown.end(), [&](int a, int b) { return relative(a) > relative(b); });
+      out << "; the " << kMaxCombinationLines << " least certain (largest std relative to the value)";
+    } else {
+      out << "; the first " << kMaxCombinationLines;
+    }
+    shown.resize(kMaxCombinationLines);
+    std::sort(shown.begin(), shown.end());
+  }
+  out << ":\n";
+  for (int i : shown) {
+    const CombinationEstimate& e = estimates[i];
+    out << "  " << combinations[i].text << " = " << FormatNumber(e.value, 4);
+    if (e.std) out << " +- " << FormatNumber(*e.std, 3);
+    if (e.held_by_prior) out << " (held by the prior)";
+    out << "\n";
+  }
+  if (count > kMaxCombinationLines) out << "  ... and " << count - kMaxCombinationLines << " more (see --json)\n";
+}
+
 }  // namespace
 
 std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions) {
@@ -275,6 +349,7 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
   WriteTorqueErrors(out, model, "training", run.prior_train, run.fit_train);
   if (run.fit_validation) WriteTorqueErrors(out, model, "validation", *run.prior_validation, *run.fit_validation);
   WriteIdentifiability(out, run.identifiability, max_directions);
+  WriteBaseCombinations(out, model, run);
   out << "\n" << (all_consistent ? "Every identified body is physically consistent."
                                  : "SOME IDENTIFIED BODY IS NOT PHYSICALLY CONSISTENT (a bug: please report).")
       << "\n";
@@ -418,6 +493,19 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
                        {"parameters", id.num_parameters},
                        {"condition_number", id.condition_number},
                        {"directions", directions}};
+  nlohmann::json combinations = nlohmann::json::array();
+  const std::vector<CombinationEstimate> estimates = EstimateCombinations(model, run);
+  for (size_t i = 0; i < id.base_combinations.size(); ++i) {
+    const BaseCombination& c = id.base_combinations[i];
+    nlohmann::json terms = nlohmann::json::array();
+    for (const auto& [name, coefficient] : c.terms) terms.push_back(nlohmann::json::array({name, coefficient}));
+    const CombinationEstimate& e = estimates[i];
+    nlohmann::json sd = nullptr;
+    if (e.std) sd = std::isfinite(*e.std) ? nlohmann::json(*e.std) : nlohmann::json("inf");
+    combinations.push_back(
+        {{"terms", terms}, {"text", c.text}, {"value", e.value}, {"std", sd}, {"held_by_prior", e.held_by_prior}});
+  }
+  j["base_combinations"] = combinations;
   j["x"] = VectorJson(fit.x);
   return j;
 }

@@ -151,6 +151,61 @@ TEST(IdentifyCli, TextReportNamesBodiesErrorsAndUnidentifiedDirections) {
   }
 }
 
+// The identifiable combinations in both outputs of the same run: the text's section lists every
+// one of the JSON's (the leg has fewer than 30) with its value and std; in the JSON each value is
+// k^T w with w read back from the JSON's own bodies (pi; the links' frames are their tree
+// bodies') and effects, every std is finite and positive, and the knee's Coulomb coefficient, a
+// combination by itself, has the std the effect reports.
+TEST(IdentifyCli, BaseCombinationsInTextAndJson) {
+  const RobotModel robot = LoadUrdf(testing::Example("leg3.urdf"));
+  const RobotDynamics model = MakeRobotDynamics(robot, ParseEffectList("coulomb@knee"));
+  const testing::SimulatedLogs logs = testing::SimulateLogs(model, testing::TrueParameters(model, {0.1}, 5), 0.1, 10.0, 3, 200);
+  const fs::path train = testing::UniqueTempPath("train.csv");
+  WriteJointCsv(train.string(), logs.train);
+  const std::vector<std::string> args = {"identify", "--model", testing::Example("leg3.urdf"), "--data", train.string(),
+                                         "--effects", "coulomb@knee"};
+  const testing::CliRun text = RunCli(args);
+  ASSERT_EQ(text.exit_code, 0) << Describe(text);
+  std::vector<std::string> json_args = args;
+  json_args.push_back("--json");
+  const testing::CliRun json = RunCli(json_args);
+  ASSERT_EQ(json.exit_code, 0) << Describe(json);
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  const int rank = j["unidentified"]["rank"];
+  ASSERT_EQ(static_cast<int>(j["base_combinations"].size()), rank);
+  ASSERT_LE(rank, 30);
+  EXPECT_TRUE(Contains(text.out, "Identifiable combinations (base parameters): " + std::to_string(rank) + " of 31"))
+      << text.out;
+  std::map<std::string, double> w;  // "thigh.hz" -> its coefficient, from the JSON's pi and effects
+  const char* kPi[10] = {"m", "hx", "hy", "hz", "Ixx", "Iyy", "Izz", "Ixy", "Iyz", "Ixz"};
+  for (const auto& b : j["bodies"]) {
+    for (int k = 0; k < 10; ++k) w[b["name"].get<std::string>() + "." + kPi[k]] = b["pi"][k];
+  }
+  ASSERT_EQ(j["effects"].size(), 1u);
+  w["coulomb@knee.bc"] = j["effects"][0]["values"]["bc"];
+  int coulomb = 0;
+  for (const auto& c : j["base_combinations"]) {
+    const std::string t = c["text"];
+    EXPECT_TRUE(Contains(text.out, "\n  " + t + " = ")) << t << "\n" << text.out;
+    double value = 0.0, scale = 0.0;
+    for (const auto& term : c["terms"]) {
+      const std::string name = term[0];
+      ASSERT_TRUE(w.count(name)) << name;
+      value += term[1].get<double>() * w[name];
+      scale += std::abs(term[1].get<double>() * w[name]);
+    }
+    EXPECT_NEAR(c["value"].get<double>(), value, 1e-9 * scale) << t;
+    ASSERT_TRUE(c["std"].is_number()) << t;
+    EXPECT_GT(c["std"].get<double>(), 0.0) << t;
+    if (t == "coulomb@knee.bc") {
+      const double sd = j["effects"][0]["std"]["bc"];
+      EXPECT_NEAR(c["std"].get<double>(), sd, 1e-9 * sd);
+      ++coulomb;
+    }
+  }
+  EXPECT_EQ(coulomb, 1);
+}
+
 TEST(IdentifyCli, BadInputsAreNamed) {
   const std::string leg = testing::Example("leg3.urdf");
   const fs::path csv = testing::UniqueTempPath("partial.csv");

@@ -113,6 +113,21 @@
 /// laid end to end, recorded_runs.hpp, are a second or more apart; a log cut at a pause) start a
 /// new piece, each piece split into round(n_piece / L) (at least 1) blocks of equal length.
 ///
+/// Combinations of the coefficients (issue: "report what the data determine as what they
+/// determine"). The regressor's coefficients w(x) = RobotDynamics::Coefficients(x) (pi of every
+/// tree body, then payload blocks and effect coefficients) have, to first order, the covariance
+///   C_w = J_w C_x J_w^T,   J_w = dw/dx,
+/// and a linear combination k^T w (an identifiable base combination, identifiability.hpp) the
+/// variance k^T C_w k. Its parts follow the quantities' rule above with the gradient g = J_w^T k:
+/// v_prior = k^T C_w,prior k, the white-noise data part v_data = k^T C_w,data k, and with time
+/// blocks the sandwich's data part v_block = k^T C_w,block k; the reported variance is
+/// v_prior + max(v_data, v_block) (without blocks, k^T C_w k), and the combination is held by the
+/// prior if v_prior > v_data. For a combination the data determine, v_prior is small (the prior
+/// barely moves it), and the std is what the fit gives (no CAD floor: it is not a body quantity).
+/// Undetermined: as for a body quantity, a combination whose gradient g = J_w^T k has a component
+/// along the undetermined subspace (relative size above 1e-6, in the Jacobi-scaled coordinates:
+/// ||Z^T D^-1/2 g|| > 1e-6 ||D^-1/2 g||, Z the subspace's orthonormal basis) has infinite std.
+///
 /// Conventions: SI units; pi and mci orders of types.hpp and parameter_layout.hpp.
 #pragma once
 
@@ -136,6 +151,28 @@ struct BodyHeldByPrior {
 /// The std of each entry of theta (alpha, d1..d3, s12, s23, s13 dimensionless; t1..t3 as a fraction
 /// of the prior's RMS radius) that a CAD drawing's error gives (file comment, "honest spread").
 inline constexpr double kCadSpreadAlpha = 0.1, kCadSpreadShape = 0.15, kCadSpreadTranslation = 0.2;
+
+/// The covariance of the regressor's coefficients w = model.Coefficients(x) (num_features square;
+/// file comment, "Combinations"). Frozen bodies' and non-estimated bodies' coefficients are fixed
+/// (rows and columns 0); the undetermined directions are left out, as in body_pi_covariance.
+struct CoefficientCovariance {
+  Eigen::MatrixXd total;       ///< C_w = J_w C J_w^T with C = FitUncertainty::covariance's finite part
+  Eigen::MatrixXd data;        ///< the white-noise data part s^2 J_w H^-1 H_data H^-1 J_w^T
+  Eigen::MatrixXd prior;       ///< the prior's part s^2 J_w H^-1 H_prior H^-1 J_w^T
+  Eigen::MatrixXd block_data;  ///< the block sandwich's data part J_w H^-1 Omega H^-1 J_w^T (0 x 0 without blocks)
+  /// For the undetermined test (file comment): J_w D^-1/2 Z, how w moves along each undetermined
+  /// direction (columns; none when there is none), and J_w D^-1 J_w^T, whose quadratic form in k
+  /// is ||D^-1/2 g||^2.
+  Eigen::MatrixXd undetermined_moves;
+  Eigen::MatrixXd scaled_gradient_gram;
+  bool prior_acts = false;     ///< a prior was fitted (prior_weight > 0): "held" can be judged
+};
+
+/// A combination k^T w's uncertainty (file comment, "Combinations").
+struct CombinationUncertainty {
+  double std = 0;              ///< +infinity if it changes along an undetermined direction
+  bool held_by_prior = false;  ///< the prior's share of its variance exceeds the data's
+};
 
 /// The uncertainty of a batch identification at its solution x (see the file comment).
 struct FitUncertainty {
@@ -168,7 +205,14 @@ struct FitUncertainty {
   /// Per effect term (model.effects() order): the std of each RobotDynamics::EffectValues entry
   /// (b = e^s: std(b) = b std(s); offset c: std(c); spring {k = e^s, q0}).
   std::vector<std::vector<double>> effects;
+  /// The covariance of the regressor's coefficients w and its parts (file comment, "Combinations").
+  CoefficientCovariance coefficients;
 };
+
+/// The std of k^T w (k: one weight per coefficient of w, model.num_features()) and whether the
+/// prior holds it (file comment, "Combinations"). @throws std::invalid_argument if k has the wrong
+/// size or is not finite.
+CombinationUncertainty UncertaintyOfCombination(const CoefficientCovariance& c, const Eigen::VectorXd& k);
 
 /// The data's normal equations in contiguous time blocks (file comment, "The block rule").
 struct TimeBlocks {

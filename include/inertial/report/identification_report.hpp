@@ -46,7 +46,8 @@ IdentificationRun RunIdentification(const RobotDynamics& model, const JointSampl
                                     const OutlierOptions& outliers = {});
 
 /// The human-readable report (links with mass, COM, inertia about the COM, principal moments and
-/// axes, consistency; effects; per-joint errors; unidentified directions, at most `max_directions`).
+/// axes, consistency; effects; per-joint errors; unidentified directions, at most `max_directions`;
+/// the identifiable combinations with their values and stds, at most 30, the least certain).
 std::string IdentificationText(const RobotDynamics& model, const IdentificationRun& run, int max_directions = 12);
 
 /// JSON: {iterations, stop_reason, outliers{rejected, rows (first 20 sample indices), threshold,
@@ -55,7 +56,9 @@ std::string IdentificationText(const RobotDynamics& model, const IdentificationR
 /// rms_train{per joint, total}, relative_rms_train, rms_prior_train, (and _validation), bodies[{name,
 /// mass, com, inertia_about_com (3x3), principal_moments, principal_axes (columns), pi, theta,
 /// consistency{...}, physically_consistent}], effects[{effect, joint, values{...}}],
-/// physically_consistent (all bodies), unidentified{rank, parameters, directions[{description, terms}]}}.
+/// physically_consistent (all bodies), unidentified{rank, parameters, directions[{description, terms}]},
+/// base_combinations[{terms [[name, coefficient], ...], text, value, std (null without the fit's
+/// uncertainty, "inf" if undetermined), held_by_prior}] (identifiability.hpp, fit_uncertainty.hpp)}.
 nlohmann::json IdentificationJson(const RobotDynamics& model, const IdentificationRun& run);
 
 /// The "bodies" array of IdentificationJson at x; *all_consistent (optional) tells whether every

@@ -2,6 +2,7 @@
 #include "inertial/model/number_text.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -28,7 +29,104 @@ std::string Describe(const std::vector<std::pair<std::string, double>>& terms) {
   return s + " leaves every torque unchanged";
 }
 
+// "a + 2.94 b - c": a combination's terms as a sum (coefficients 1 unwritten). Four digits: betas
+// are often products of link lengths, 0.075^2 = 0.005625 would round to 0.00563 or 0.00562 by
+// its last bit at three.
+std::string CombinationText(const std::vector<std::pair<std::string, double>>& terms) {
+  std::string s = terms[0].first;
+  for (size_t i = 1; i < terms.size(); ++i) {
+    const std::string c = FormatNumber(std::abs(terms[i].second), 4);
+    s += (terms[i].second < 0 ? " - " : " + ") + (c == "1" ? "" : c + " ") + terms[i].first;
+  }
+  return s;
+}
+
+// The identifiable combinations (header). M (R x P) is the column-scaled regressor B = A D
+// truncated to its R retained singular directions, in the coordinates of its left singular vectors
+// (B ~ U M with U orthonormal, so M's columns have the lengths and angles of B's); d the column
+// scaling (0: a zero column, which is in no combination); `threshold` the least distance of an
+// independent column from the span of those before it.
+std::vector<BaseCombination> BaseCombinations(const Eigen::MatrixXd& M, const Eigen::VectorXd& d, double threshold,
+                                              const std::vector<std::string>& names) {
+  const int R = static_cast<int>(M.rows()), P = static_cast<int>(M.cols());
+  std::vector<BaseCombination> combinations;
+  if (R == 0) return combinations;
+  // Independent columns, leftmost first, by Gram-Schmidt (twice, for orthogonality to rounding):
+  // a column farther than `threshold` from the span of the chosen ones joins them. Below the rank
+  // tolerance a column adds a direction the truncation already counted as null (B_I would have a
+  // singular value below it).
+  Eigen::MatrixXd Q(R, R);
+  int chosen = 0;
+  std::vector<bool> independent(P, false);
+  auto residual = [&](int j) {
+    Eigen::VectorXd r = M.col(j);
+    for (int pass = 0; pass < 2; ++pass) r -= Q.leftCols(chosen) * (Q.leftCols(chosen).transpose() * r);
+    return r;
+  };
+  auto choose = [&](int j, const Eigen::VectorXd& r) {
+    Q.col(chosen++) = r / r.norm();
+    independent[j] = true;
+  };
+  for (int j = 0; j < P && chosen < R; ++j) {
+    if (d[j] == 0.0) continue;
+    const Eigen::VectorXd r = residual(j);
+    if (r.norm() > threshold) choose(j, r);
+  }
+  // Fewer than R (possible only when the columns reach the last directions in many small steps,
+  // each below the threshold): the farthest remaining column each time, as column-pivoted QR does.
+  while (chosen < R) {
+    int best = -1;
+    Eigen::VectorXd best_r;
+    for (int j = 0; j < P; ++j) {
+      if (independent[j] || d[j] == 0.0) continue;
+      Eigen::VectorXd r = residual(j);
+      if (best < 0 || r.norm() > best_r.norm()) best = j, best_r = r;
+    }
+    if (best < 0 || !(best_r.norm() > 0.0)) break;
+    choose(best, best_r);
+  }
+  std::vector<int> pivots;
+  for (int j = 0; j < P; ++j) {
+    if (independent[j]) pivots.push_back(j);
+  }
+  const int r_found = static_cast<int>(pivots.size());
+  Eigen::MatrixXd M_I(R, r_found);
+  for (int i = 0; i < r_found; ++i) M_I.col(i) = M.col(pivots[i]);
+  // Scaled betas: b_j = sum_i beta_ij b_{p_i} (B's columns), i.e. M = M_I beta; M_I is square and
+  // invertible when all R columns were found (each independent of the ones before it).
+  const Eigen::MatrixXd beta = M_I.fullPivLu().solve(M);
+  for (int i = 0; i < r_found; ++i) {
+    const int p = pivots[i];
+    BaseCombination c;
+    c.terms.emplace_back(names[p], 1.0);
+    c.columns.push_back(p);
+    for (int j = 0; j < P; ++j) {
+      // Independent columns are in their own combination only (beta = identity there); a beta
+      // below 1e-6 is a column whose torques are below 1e-6 of the independent one's: rounding.
+      if (independent[j] || d[j] == 0.0 || !(std::abs(beta(i, j)) >= 1e-6)) continue;
+      // In physical units: a_j = b_j / d_j = sum_i beta_ij (d_{p_i} / d_j) a_{p_i}.
+      c.terms.emplace_back(names[j], beta(i, j) * d[p] / d[j]);
+      c.columns.push_back(j);
+    }
+    c.text = CombinationText(c.terms);
+    combinations.push_back(std::move(c));
+  }
+  return combinations;
+}
+
 }  // namespace
+
+Eigen::VectorXd BaseCombination::Vector(int num_parameters) const {
+  Eigen::VectorXd k = Eigen::VectorXd::Zero(num_parameters);
+  for (size_t i = 0; i < columns.size(); ++i) {
+    if (columns[i] < 0 || columns[i] >= num_parameters) {
+      throw std::invalid_argument("base combination: a column is outside the " + std::to_string(num_parameters) +
+                                  " parameters");
+    }
+    k[columns[i]] = terms[i].second;
+  }
+  return k;
+}
 
 IdentifiabilityReport AnalyzeIdentifiability(const Eigen::MatrixXd& AtA, const std::vector<std::string>& names,
                                              double relative_tolerance) {
@@ -91,6 +189,11 @@ IdentifiabilityReport AnalyzeIdentifiability(const Eigen::MatrixXd& AtA, const s
     dir.description = Describe(dir.terms);
     report.directions.push_back(dir);
   }
+  // The row space: the retained eigenvectors (the orthogonal complement of the null ones above,
+  // in the scaled coordinates), weighted by their singular values.
+  const int R = report.rank;
+  const Eigen::MatrixXd M = sigma.tail(R).asDiagonal() * eig.eigenvectors().rightCols(R).transpose();
+  report.base_combinations = BaseCombinations(M, d, relative_tolerance * sigma_max, names);
   return report;
 }
 
