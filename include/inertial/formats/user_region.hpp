@@ -9,10 +9,10 @@
 /// R = Rz(y) Ry(p) Rx(r)) in LINK's frame. LINK is a URDF link that moves with a joint (a link fixed
 /// to another by a fixed joint names that link's body, the ellipsoid still in its own frame), or
 /// payload@LINK for a payload of the model (its region, given in LINK's frame).
-/// The region's source is RegionSource::kUser ("the user (--region)"); its largest mass is the automatic regions'
-/// (kMaxRegionDensity, solid steel, over its volume); its semi-axes are used as given, no margin
-/// added: what the user states is what the fit keeps (Wensing, Kim and Slotine, RA-L 2018: tr(Q J)
-/// >= 0 for the ellipsoid's Q, bounding_ellipsoid.hpp).
+/// The region's source is RegionSource::kUser ("the user (--region)"); its largest mass follows the
+/// automatic regions' rule (kMaxRegionDensity, solid steel, over its volume); its semi-axes are used
+/// as given, no margin added: what the user states is what the fit keeps (Wensing, Kim and Slotine,
+/// RA-L 2018: tr(Q J) >= 0 for the ellipsoid's Q, bounding_ellipsoid.hpp).
 /// A fit starts at the prior, so a given region must hold the body's prior strictly (slack > 0,
 /// mass below the region's largest): otherwise the option is refused, naming the prior's slack.
 ///
