@@ -25,19 +25,31 @@ const std::string& Leg() {
   return leg;
 }
 
+// A temporary file removed when the test program ends.
+struct TempFile {
+  fs::path path;
+  ~TempFile() {
+    std::error_code ec;
+    fs::remove(path, ec);
+  }
+};
+
 // 10 s at 200 Hz of the leg (URDF links, 4.31 kg) carrying a 2 kg payload at its foot, 0.05 N m of
-// torque noise; written once per test program.
-const fs::path& LoadedLegLog() {
-  static const fs::path path = [] {
-    const RobotModel robot = LoadUrdf(Leg());
-    const RobotDynamics loaded = MakeRobotDynamics(robot, ParseEffectList("payload@foot:mass=2"));
-    const testing::SimulatedLogs logs =
-        testing::SimulateLogs(loaded, Eigen::VectorXd::Zero(loaded.num_parameters()), 0.05, 10.0, 41, 200);
-    const fs::path p = testing::UniqueTempPath("loaded_leg.csv");
-    WriteJointCsv(p.string(), logs.train);
-    return p;
-  }();
+// torque noise, written to a new file.
+fs::path WriteLoadedLegLog() {
+  const RobotModel robot = LoadUrdf(Leg());
+  const RobotDynamics loaded = MakeRobotDynamics(robot, ParseEffectList("payload@foot:mass=2"));
+  const testing::SimulatedLogs logs =
+      testing::SimulateLogs(loaded, Eigen::VectorXd::Zero(loaded.num_parameters()), 0.05, 10.0, 41, 200);
+  const fs::path path = testing::UniqueTempPath("loaded_leg.csv");
+  WriteJointCsv(path.string(), logs.train);
   return path;
+}
+
+// That log, written once per test program and removed when it ends.
+const fs::path& LoadedLegLog() {
+  static const TempFile file{WriteLoadedLegLog()};
+  return file.path;
 }
 
 nlohmann::json Json(const testing::CliRun& r) {
