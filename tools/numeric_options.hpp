@@ -62,6 +62,7 @@ inline const std::vector<NumericOption>& NumericOptions() {
       {"--publish-rate", "FLOAT", "Hz", "--config's or 10"},
       {"--checkpoint-interval", "FLOAT", "s", "5"},
       {"--max-mismatch-torque", "FLOAT", "fraction", "0.1"},
+      {"--total-mass", "FLOAT", "kg", ""},
   };
   return table;
 }

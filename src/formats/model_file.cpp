@@ -109,9 +109,15 @@ void WriteModelUrdf(const std::string& urdf_path, const std::string& out_path, c
   changes.origin = origin;
   changes.effects = EffectsOf(model, snapshot);
   changes.effects->insert(changes.effects->end(), snapshot.measurement.begin(), snapshot.measurement.end());
+  // Each link's prior recorded (urdf_model.hpp): the drawing the values are judged against. A model
+  // read from a model file keeps the priors that file recorded, so the drawing survives refits.
+  changes.priors.emplace();
   for (int e = 0; e < static_cast<int>(model.bodies().size()); ++e) {
     const EstimatedBody& body = model.bodies()[e];
-    if (IsLinkBody(robot, body) && snapshot.bodies[e]) changes.inertias[body.name] = *snapshot.bodies[e];
+    if (!IsLinkBody(robot, body)) continue;
+    if (snapshot.bodies[e]) changes.inertias[body.name] = *snapshot.bodies[e];
+    const auto recorded = robot.recorded_priors.find(body.name);
+    (*changes.priors)[body.name] = recorded != robot.recorded_priors.end() ? recorded->second : body.prior;
   }
   for (const UrdfLinkInertial& link : robot.links) {
     const int b = robot.BodyIndex(link.link);

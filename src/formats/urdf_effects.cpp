@@ -410,4 +410,60 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
   robot->InsertEndChild(ext);
 }
 
+std::map<std::string, InertialParams> ReadRecordedPriors(const tinyxml2::XMLElement& robot, const std::string& source,
+                                                         const std::vector<std::string>& body_links) {
+  std::map<std::string, InertialParams> priors;
+  const tinyxml2::XMLElement* element = robot.FirstChildElement(kPriorsElement);
+  if (element == nullptr) return priors;
+  const std::string where = source + ": <" + std::string(kPriorsElement) + "> (line " +
+                            std::to_string(element->GetLineNum()) + ")";
+  if (element->NextSiblingElement(kPriorsElement) != nullptr) throw UrdfError(where + " is given twice");
+  const char* version = element->Attribute("version");
+  if (version == nullptr || std::string(version) != "1") {
+    throw UrdfError(where + " has version " + (version ? "'" + std::string(version) + "'" : std::string("(none)")) +
+                    "; this reader knows version 1");
+  }
+  const std::set<std::string> links(body_links.begin(), body_links.end());
+  for (const tinyxml2::XMLElement* e = element->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+    const std::string at = source + ": <" + std::string(kPriorsElement) + ">: " + ElementText(*e);
+    if (std::string(e->Name()) != "prior") throw UrdfError(at + " is not a <prior>");
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
+      if (std::string(a->Name()) != "link") throw UrdfError(at + " has an unknown attribute '" + std::string(a->Name()) + "'");
+    }
+    const char* link = e->Attribute("link");
+    if (link == nullptr || *link == '\0') throw UrdfError(at + " has no attribute 'link'");
+    if (links.count(link) == 0) throw UrdfError(at + ": '" + std::string(link) + "' is not a link that moves with a joint");
+    const tinyxml2::XMLElement* inertial = e->FirstChildElement("inertial");
+    if (inertial == nullptr || inertial->NextSiblingElement() != nullptr || e->FirstChildElement() != inertial) {
+      throw UrdfError(at + " must hold exactly one <inertial>");
+    }
+    if (!priors.emplace(link, ReadInertialElement(*inertial, at)).second) {
+      throw UrdfError(at + ": link '" + std::string(link) + "' is given twice");
+    }
+  }
+  return priors;
+}
+
+void WriteRecordedPriors(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot,
+                         const std::map<std::string, InertialParams>& priors, const std::string& path) {
+  while (tinyxml2::XMLElement* old = robot->FirstChildElement(kPriorsElement)) robot->DeleteChild(old);
+  if (priors.empty()) return;
+  tinyxml2::XMLElement* element = doc.NewElement(kPriorsElement);
+  element->SetAttribute("version", 1);
+  element->InsertEndChild(doc.NewComment(
+      " inertial: each link's inertia in the URDF the values were identified from (the fit's prior), in the "
+      "link's frame. `inertial validate` and `inertial check` judge the links' plausibility against it (the mass "
+      "ratio, the region built from it); other URDF readers ignore this element. "));
+  for (const auto& [link, pi] : priors) {
+    if (!pi.AllFinite()) throw UrdfError(path + ": the prior of link '" + link + "' is not finite");
+    tinyxml2::XMLElement* e = doc.NewElement("prior");
+    e->SetAttribute("link", link.c_str());
+    tinyxml2::XMLElement* inertial = doc.NewElement("inertial");
+    FillInertialElement(doc, inertial, pi);
+    e->InsertEndChild(inertial);
+    element->InsertEndChild(e);
+  }
+  robot->InsertEndChild(element);
+}
+
 }  // namespace inertial::detail

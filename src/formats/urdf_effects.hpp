@@ -34,6 +34,22 @@ std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, con
 void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, const std::vector<ModelEffect>& effects,
                        const std::map<std::string, std::string>& notes, const std::string& path);
 
+/// The name of the element recording each link's prior (a child of <robot>; urdf_model.hpp).
+inline constexpr const char* kPriorsElement = "inertial_priors";
+
+/// The priors <inertial_priors> records (link -> pi about the link's frame origin), empty without
+/// the element. `body_links`: the links a prior may be given for (those that start a moving body).
+/// @throws UrdfError naming source and element for another version, an unknown child or attribute,
+/// a link that does not start a moving body, a link given twice, an <inertial> that is missing, not
+/// finite or not fully physically consistent.
+std::map<std::string, InertialParams> ReadRecordedPriors(const tinyxml2::XMLElement& robot, const std::string& source,
+                                                         const std::vector<std::string>& body_links);
+
+/// Makes the document record exactly `priors` (one <inertial_priors> replacing any earlier one;
+/// none if empty). @throws UrdfError (path) for a prior that is not finite.
+void WriteRecordedPriors(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot,
+                         const std::map<std::string, InertialParams>& priors, const std::string& path);
+
 /// `<inertial>` content (origin at the COM with rpy 0, mass, inertia about the COM) of pi.
 void FillInertialElement(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* inertial, const InertialParams& pi);
 /// The inverse: pi about the element's frame origin. `where` starts error messages.

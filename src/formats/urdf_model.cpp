@@ -664,6 +664,7 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
   GatherShapes(urdf_model, &model);
 
   model.effects = detail::ReadModelEffects(robot_element, src, model.dof_names, &model.effect_declared);
+  model.recorded_priors = detail::ReadRecordedPriors(robot_element, src, model.body_links);
   model.dof_limits = detail::ReadJointLimits(robot_element, src, model.dof_names);
   return model;
 }

@@ -231,6 +231,10 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
   CheckChanges(changes, dynamics, links, joints, in_path);
   ApplyChanges(changes, dynamics, links, joints, doc);
   if (changes.effects) detail::WriteModelEffects(doc, robot, *changes.effects, changes.notes, in_path);
+  if (changes.priors) {
+    RequireKnown(Keys(*changes.priors), links, in_path, "link");
+    detail::WriteRecordedPriors(doc, robot, *changes.priors, in_path);
+  }
   ReplaceNote(doc, ChangeSummary(changes, dynamics, in_path));
   tinyxml2::XMLPrinter printer;
   doc.Print(&printer);

@@ -14,7 +14,7 @@ const char* ToString(RegionSource source) {
     case RegionSource::kShape: return "collision geometry";
     case RegionSource::kSegment: return "joints and prior";
     case RegionSource::kPayloadReach: return "payload reach";
-    case RegionSource::kUser: return "given";
+    case RegionSource::kUser: return "the user (--region)";
   }
   return "?";
 }
@@ -67,6 +67,14 @@ BodyRegion RegionAround(const std::vector<Vector3>& points, const InertialParams
   for (const Vector3& u : ShapePointsOfSphere(Vector3::Zero(), 1.0)) all.push_back(own.center + to_ellipsoid * u);
   BodyRegion region;
   region.ellipsoid = MinimumVolumeEllipsoid(all).Scaled(1.0 + margin);
+  region.max_mass = kMaxRegionDensity * region.ellipsoid.Volume();
+  region.source = source;
+  return region;
+}
+
+BodyRegion RegionOfPoints(const std::vector<Vector3>& points, double margin, RegionSource source) {
+  BodyRegion region;
+  region.ellipsoid = MinimumVolumeEllipsoid(points).Scaled(1.0 + margin);
   region.max_mass = kMaxRegionDensity * region.ellipsoid.Volume();
   region.source = source;
   return region;

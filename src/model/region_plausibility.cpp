@@ -14,6 +14,7 @@ RegionPlausibility JudgeAgainstRegion(const InertialParams& body, const Inertial
   p.slack = region.ellipsoid.Slack(body);
   p.density = m / region.ellipsoid.Volume();
   p.mass_ratio = m / prior.mass();
+  p.mass_compared = drawn_prior;
   p.inside = p.slack >= 0.0 && m <= region.max_mass;
   p.on_edge = p.inside && p.slack < kRegionEdgeSlack;
   const bool mass_ok =

@@ -9,6 +9,7 @@
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/formats/output_paths.hpp"
+#include "inertial/formats/user_region.hpp"
 #include "inertial/report/uncertainty_report.hpp"
 #include "inertial/transport/can_bus.hpp"
 
@@ -103,7 +104,24 @@ std::unique_ptr<EstimationDaemon> MakeRobotDaemon(const DaemonRequest& r, Daemon
                                                   std::atomic<bool>* write_request) {
   RobotModel robot = LoadUrdf(r.model_path);
   options.log_gains = StatedLogGains(robot, robot.effects);  // a log of currents, in N m first
-  auto model = [&] { return MakeRobotDynamics(robot, MergeEffects(robot.DeclaredEffects(), ParseEffectList(r.effects))); };
+  std::vector<UserRegion> regions;
+  for (const std::string& text : r.regions) {
+    try {
+      regions.push_back(ParseUserRegion(text));
+    } catch (const std::invalid_argument& e) {  // InvalidNumber names the option itself
+      Fail(StartFailure::kUsage, dynamic_cast<const InvalidNumber*>(&e) != nullptr ? e.what()
+                                                                                   : "--region " + text + ": " + e.what());
+    }
+  }
+  auto model = [&] {
+    RobotDynamics m = MakeRobotDynamics(robot, MergeEffects(robot.DeclaredEffects(), ParseEffectList(r.effects)));
+    try {
+      ApplyUserRegions(robot, regions, &m);
+    } catch (const std::invalid_argument& e) {
+      Fail(StartFailure::kUsage, std::string("--region ") + e.what());
+    }
+    return m;
+  };
   std::unique_ptr<EstimationDaemon> daemon;
   if (r.can_interface.empty()) {
     daemon = std::make_unique<EstimationDaemon>(model(), std::move(options));

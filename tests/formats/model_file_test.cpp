@@ -197,6 +197,44 @@ TEST(ModelFile, BadEffectElementsAreRefusedNamingThem) {
   }
 }
 
+// <inertial_priors> (urdf_model.hpp): read into recorded_priors, or refused naming what is wrong.
+TEST(ModelFile, RecordedPriorsAreReadStrictly) {
+  const std::string inertial =
+      testing::InertialXml(1.0, Vector3(0.1, 0, 0), Vector3::Zero(), Matrix3::Identity() * 0.01);
+  auto with = [&](const std::string& priors) {
+    return testing::RobotXml("r", testing::LinkXml("base") + testing::LinkXml("plate") +
+                                      testing::JointXml("bolt", "fixed", "base", "plate") +
+                                      testing::JointXml("j", "continuous", "plate", "l") + testing::LinkXml("l", inertial) +
+                                      priors + "\n");
+  };
+  const RobotModel read = ParseUrdf(with("<inertial_priors version=\"1\"><prior link=\"l\">" + inertial +
+                                         "</prior></inertial_priors>"),
+                                    "ok.urdf");
+  ASSERT_EQ(read.recorded_priors.size(), 1u);
+  EXPECT_LT((read.recorded_priors.at("l").vector() - read.tree.inertia(0).vector()).norm(), 1e-15);
+  EXPECT_TRUE(ParseUrdf(with(""), "none.urdf").recorded_priors.empty());
+  const std::pair<std::string, std::string> cases[] = {
+      {"<inertial_priors version=\"2\"></inertial_priors>", "has version '2'; this reader knows version 1"},
+      {"<inertial_priors version=\"1\"><payload link=\"l\"/></inertial_priors>", "is not a <prior>"},
+      {"<inertial_priors version=\"1\"><prior link=\"plate\">" + inertial + "</prior></inertial_priors>",
+       "'plate' is not a link that moves with a joint"},
+      {"<inertial_priors version=\"1\"><prior link=\"l\"/></inertial_priors>", "must hold exactly one <inertial>"},
+      {"<inertial_priors version=\"1\"><prior link=\"l\" mass=\"1\">" + inertial + "</prior></inertial_priors>",
+       "unknown attribute 'mass'"},
+      {"<inertial_priors version=\"1\"><prior link=\"l\">" + inertial + "</prior><prior link=\"l\">" + inertial +
+           "</prior></inertial_priors>",
+       "link 'l' is given twice"},
+      {"<inertial_priors version=\"1\"><prior link=\"l\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" "
+       "iyy=\"1\" izz=\"5\" ixy=\"0\" iyz=\"0\" ixz=\"0\"/></inertial></prior></inertial_priors>",
+       "not physically consistent"},
+  };
+  for (const auto& [priors, expected] : cases) {
+    const std::string message = ErrorOf([&] { ParseUrdf(with(priors), "bad.urdf"); });
+    EXPECT_NE(message.find("bad.urdf: <inertial_priors>"), std::string::npos) << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << priors << " -> " << message;
+  }
+}
+
 TEST(ModelFile, DeclaredEffectsJoinTheFittingModelAndCommandLineOnesReplaceThem) {
   const std::vector<EffectSpec> file = ParseEffectList("viscous@hip,coulomb@knee:scale=0.02,payload@foot");
   const std::vector<EffectSpec> merged = MergeEffects(file, ParseEffectList("coulomb:scale=0.1"));

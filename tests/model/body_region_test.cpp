@@ -100,5 +100,22 @@ TEST(BodyRegion, EveryEstimatedBodyButRotorsHasOne) {
   EXPECT_FALSE(model.bodies()[0].region.has_value());
 }
 
+// The region of points alone: a box's 8 corners give the ellipsoid through them (semi-axes sqrt(3)
+// times the half sizes), grown by the margin, with no prior added; it need not hold any body.
+TEST(BodyRegion, RegionOfPointsAloneIsTheirEllipsoid) {
+  const std::vector<Vector3> corners = ShapePointsOfBox(Matrix3::Identity(), Vector3(0, 0, 0.2), Vector3(0.1, 0.1, 0.4));
+  const BodyRegion r = RegionOfPoints(corners, 0.1, RegionSource::kShape);
+  EXPECT_EQ(r.source, RegionSource::kShape);
+  EXPECT_LT((r.ellipsoid.center - Vector3(0, 0, 0.2)).norm(), 1e-3);
+  const Vector3 axes = r.ellipsoid.SemiAxes();
+  EXPECT_NEAR(axes[2], 1.1 * std::sqrt(3.0) * 0.2, 2e-3);
+  EXPECT_NEAR(axes[0], 1.1 * std::sqrt(3.0) * 0.05, 2e-3);
+  EXPECT_NEAR(r.max_mass, kMaxRegionDensity * r.ellipsoid.Volume(), 1e-9);
+  // A COM 0.3 m beside the box lies outside it (RegionAround would have grown to hold such a prior).
+  EXPECT_LT(r.ellipsoid.Slack(SolidSphere(1.0, 0.01, Pose{Matrix3::Identity(), Vector3(0, 0.3, 0.2)})), 0.0);
+  EXPECT_THROW(RegionOfPoints({Vector3::Zero(), Vector3::UnitX(), Vector3::UnitY()}, 0.1, RegionSource::kShape),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace inertial

@@ -54,5 +54,19 @@ TEST(RegionPlausibility, VerdictsOfClosedFormBodies) {
   EXPECT_NE(dense.words.find("denser than steel"), std::string::npos) << dense.words;
 }
 
+// Whether the mass was compared is recorded with the verdict: a payload's guessed prior, or a body
+// that is its own reference, is not judged by its mass however far from the prior's it is.
+TEST(RegionPlausibility, RecordsWhetherTheMassWasCompared) {
+  const InertialParams prior = SolidBox(2.0, 0.2, 0.05, 0.05);
+  const InertialParams heavy = SolidBox(8.0, 0.2, 0.05, 0.05);
+  const RegionPlausibility drawn = JudgeAgainstRegion(heavy, prior, Region(), true);
+  EXPECT_TRUE(drawn.mass_compared);
+  EXPECT_FALSE(drawn.plausible);
+  const RegionPlausibility guessed = JudgeAgainstRegion(heavy, prior, Region(), false);
+  EXPECT_FALSE(guessed.mass_compared);
+  EXPECT_TRUE(guessed.plausible) << guessed.words;
+  EXPECT_DOUBLE_EQ(guessed.mass_ratio, 4.0);
+}
+
 }  // namespace
 }  // namespace inertial

@@ -38,6 +38,8 @@ int RunConvertCommand(const ConvertCommand& command);
 struct IdentifyCommand {
   std::string model, validate, effects, predictions, write_urdf, time_scale;
   std::vector<std::string> data, run_payloads;  ///< --data (one or more runs), --run-payload
+  std::vector<std::string> regions;             ///< --region (user_region.hpp)
+  std::string total_mass;                       ///< --total-mass (empty: none)
   std::string outlier_threshold = "0";
   bool no_outlier_rejection = false;
   std::string prior_weight = "0.01";
@@ -53,6 +55,7 @@ int RunIdentifyCommand(const IdentifyCommand& command);
 
 struct CheckCommand {
   std::string model, repair;
+  std::string total_mass;  ///< --total-mass (empty: none): the links' total judged against it
   bool json = false;
 };
 CLI::App* AddCheckCommand(CLI::App& app, CheckCommand* command);
@@ -87,12 +90,15 @@ struct DiagnoseCommand {
   std::string prior_tolerance;  ///< robots: empty for the default (plausibility.hpp)
   std::string folds;            ///< --body: cross-validation blocks (empty: 5 unless --validate/--holdout)
   bool skip_bad_rows = false;
+  std::vector<std::string> regions;  ///< robots: --region (user_region.hpp)
+  std::string total_mass;            ///< robots: --total-mass (empty: none)
 };
 CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* command);
 int RunDiagnoseCommand(const DiagnoseCommand& command);
 
 struct ReplayCommand {
   std::string model, log, candump, can_config, effects, config, channel, out, write_log, write_urdf, time_scale;
+  std::vector<std::string> regions;  ///< --region (user_region.hpp)
   std::string estimator, noise_tau, publish_rate;  ///< empty: --config's, or the defaults
   bool realtime = false, diagnose = false, json = false;
 };
@@ -109,6 +115,7 @@ struct ValidateCommand {
   std::string model, effects, effect_values, predictions, report_dir, pi, time_scale;
   std::vector<std::string> data, run_payloads;  ///< --data (robots: one or more runs), --run-payload
   std::string gravity = "0 0 -9.81", sg_order = "4", sg_window = "0.1";
+  std::string total_mass;  ///< robots: --total-mass (empty: none): the links' total judged against it
   bool body = false, json = false, skip_bad_rows = false;
 };
 CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* command);
@@ -116,6 +123,7 @@ int RunValidateCommand(const ValidateCommand& command);
 
 struct PayloadCommand {
   std::string model, data, baseline, link, time_scale;
+  std::vector<std::string> regions;  ///< --region (user_region.hpp), e.g. payload@tool0=...
   std::string prior_weight = "0.01";
   std::string max_mismatch_torque = "0.1";
   std::string max_mismatch;         ///< replaced by max_mismatch_torque: refused, saying so

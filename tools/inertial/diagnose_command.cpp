@@ -12,6 +12,7 @@
 #include "inertial/formats/body_csv.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/report/diagnosis_report.hpp"
+#include "inertial/report/plausibility_report.hpp"
 #include "inertial/report/validation_report.hpp"
 #include "inertial/estimation/batch/robust_identification.hpp"
 #include "inertial/signal/sample_glitches.hpp"
@@ -57,6 +58,8 @@ CLI::App* AddDiagnoseCommand(CLI::App& app, DiagnoseCommand* c) {
   sub->add_flag("--hold-links", c->hold_links,
                 "hold the links at their URDF inertias (rotors, payloads and effects still fitted) and test a payload "
                 "on every link");
+  sub->add_option("--region", c->regions, std::string("robots: ") + kRegionHelp);
+  sub->add_option("--total-mass", c->total_mass, std::string("robots: ") + kTotalMassHelp);
   sub->add_option("--prior", c->prior, "--body: the prior body's pi (default 1 kg, 1 kg m^2: the paper's)");
   sub->add_option("--min-explained", c->min_explained,
                   "share of the held-out mean-square error a candidate must remove to be suggested, in (0, 1)")
@@ -330,8 +333,17 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
               << "--effects gain ... --write-urdf model.urdf), and diagnose --model model.urdf reads the log with them\n";
     return kUsage;
   }
+  // --region: checked on the model as given (every link and payload named must be there), then
+  // applied to every model the diagnosis fits (a candidate payload's where the model has it).
+  std::vector<UserRegion> regions;
+  status = ParseRegionOptions(c.regions, &regions);
+  if (status == kOk) status = ApplyRegionOptions(robot, regions, &*model);
+  if (status == kOk) status = ParseTotalMassOption(c.total_mass, robot, *model, c.hold_links, &options.fit.total_mass);
+  if (status != kOk) return status;
   const RobotModelFactory make = [&](const std::vector<EffectSpec>& e) {
-    return MakeRobotDynamics(robot, e, gravity);
+    RobotDynamics m = MakeRobotDynamics(robot, e, gravity);
+    ApplyUserRegions(robot, regions, &m, false);
+    return m;
   };
   JointSamples train, validation;
   std::string source;
@@ -340,6 +352,7 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
   payload_fit.effects = effects;
   payload_fit.options = options.fit;
   payload_fit.hold_links = c.hold_links;
+  payload_fit.regions = regions;
   payload_fit.holdout = c.validate.empty() ? holdout : 0.0;
   status = ReadRobotLogs(c, robot, gravity, csv, holdout, make({}), payload_fit, &train, &validation, &source,
                          &held_runs);
@@ -364,10 +377,15 @@ int RunRobot(const DiagnoseCommand& c, double holdout, double min_explained, int
     context.run_names = held_runs.names;
     context.runs = CompareJointModelByRun(*model, d.fit.x, held_runs);
   }
-  const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context);
+  // The links' total against the robot as weighed (--total-mass), after the diagnosis's own text.
+  std::optional<TotalMassPlausibility> total;
+  if (options.fit.total_mass) total = JudgeTotalMass(*model, d.fit.x, *options.fit.total_mass);
+  const std::string text = (iterate > 0 ? DiagnosisPathText(path, d) + "\n" : "") + JointDiagnosisText(context) +
+                           (total ? TotalMassText(*total) + TotalMassWarning(*total) : "");
   if (c.json) {
     nlohmann::json j = JointDiagnosisJson(context);
     if (iterate > 0) j["path"] = DiagnosisPathJson(*model, path);
+    if (total) j["total_mass"] = TotalMassJson(*total);
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << text;
@@ -392,7 +410,8 @@ int RunDiagnoseCommand(const DiagnoseCommand& c) {
         {c.hold_links, "--hold-links"},      {!c.iterate.empty(), "--iterate"},    {!c.gravity.empty(), "--gravity"},
         {!c.sg_order.empty(), "--sg-order"}, {!c.sg_window.empty(), "--sg-window"}, {!c.threads.empty(), "--threads"},
         {!c.prior_weight.empty(), "--prior-weight"}, {c.skip_bad_rows, "--skip-bad-rows"},
-        {!c.prior_tolerance.empty(), "--prior-tolerance"}};
+        {!c.prior_tolerance.empty(), "--prior-tolerance"}, {!c.regions.empty(), "--region"},
+        {!c.total_mass.empty(), "--total-mass"}};
     for (const auto& [given, name] : robot_only) {
       if (given) {
         std::cerr << "Error: " << name << " needs --model (it does not apply to --body data)\n";

@@ -44,6 +44,8 @@ CLI::App* AddIdentifyCommand(CLI::App& app, IdentifyCommand* c) {
                   "effects beyond rigid links, e.g. viscous,coulomb@knee:scale=0.05,offset,armature,spring,"
                   "asymmetric@hip:scale=0.02,sigmoid@knee:steepness=40:shift=0.02,payload@tool0:mass=2,"
                   "rotor@hip:gear=6 (a joint effect without @ applies to every joint)");
+  sub->add_option("--region", c->regions, kRegionHelp);
+  sub->add_option("--total-mass", c->total_mass, kTotalMassHelp);
   sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0 (the paper: 1e-2)")->default_val("0.01");
   sub->add_option("--max-iterations", c->max_iterations, "Levenberg-Marquardt iteration cap, 1 to 100000")
       ->default_val("1000");
@@ -232,6 +234,10 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   std::vector<EffectSpec> effects;
   std::optional<RobotDynamics> model;
   if (status == kOk) status = LoadRobot(c.model, c.effects, gravity, &robot, &effects, &model);
+  std::vector<UserRegion> regions;
+  if (status == kOk) status = ParseRegionOptions(c.regions, &regions);
+  if (status == kOk) status = ApplyRegionOptions(robot, regions, &*model);
+  if (status == kOk) status = ParseTotalMassOption(c.total_mass, robot, *model, false, &options.total_mass);
   std::vector<RunPayload> payloads;
   if (status == kOk) status = ParseRunPayloads(c.run_payloads, c.data, &payloads);
   RecordedRuns runs;
@@ -244,6 +250,7 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   RunPayloadFit payload_fit;  // payloads without a COM: fitted with the model, then known
   payload_fit.effects = effects;
   payload_fit.options = options;
+  payload_fit.regions = regions;
   if (status == kOk) {
     status = ReadRobotRuns(c.data, &payloads, robot, gravity, csv, &runs, &train_lines, log_gains, &payload_fit);
   }
@@ -271,10 +278,17 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
   // Several runs: the fit's error on each (every sample of it, rows the screening left out included).
   const std::vector<ModelComparison> per_run =
       runs.num_runs() > 1 ? CompareJointModelByRun(*model, run.fit.x, runs) : std::vector<ModelComparison>{};
+  // The links' total against the robot as weighed (--total-mass), with the body plausibility.
+  std::optional<TotalMassPlausibility> total;
+  if (options.total_mass) total = JudgeTotalMass(*model, run.fit.x, *options.total_mass);
   if (c.json) {
     nlohmann::json j = IdentificationJson(*model, run);
     if (!per_run.empty()) j["runs"] = RunErrorsJson(runs.names, per_run);
     if (!payloads.empty()) j["run_payloads"] = RunPayloadsJson(payloads);
+    if (total) {
+      j["total_mass"] = TotalMassJson(*total);
+      if (!total->within) j["plausible"] = false;
+    }
     if (gains) {
       for (size_t k = 0; k < log_gains.fitted.size(); ++k) {
         j["gains"][model->dof_names()[static_cast<size_t>(log_gains.fitted[k])]] = {
@@ -283,7 +297,8 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
     }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << IdentificationText(*model, run) << RunErrorsText(runs.names, per_run, "The fit's error on the training runs")
+    std::cout << IdentificationText(*model, run) << (total ? TotalMassText(*total) + TotalMassWarning(*total) : "")
+              << RunErrorsText(runs.names, per_run, "The fit's error on the training runs")
               << (gains ? GainsText(*model, log_gains.fitted, *gains) : "");
   }
   status = WriteOutputs(c, robot, *model, run, c.validate.empty() ? train : validation,

@@ -32,6 +32,9 @@ CLI::App* AddPayloadCommand(CLI::App& app, PayloadCommand* c) {
                   "difference's");
   sub->add_option("--link", c->link, "the link that holds the payload (its frame: for UR and Franka the flange)")
       ->required();
+  sub->add_option("--region", c->regions,
+                  std::string(kRegionHelp) + " (payload@LINK: where the payload may be, e.g. the gripper's reach; "
+                  "without it, a ball of the robot's longest segment about LINK)");
   sub->add_option("--prior-weight", c->prior_weight, "gamma of eq. 14, >= 0")->default_val("0.01");
   sub->add_option("--max-mismatch-torque", c->max_mismatch_torque,
                   "--baseline: the largest RMS links' torque the runs' remaining state mismatch predicts, as a "
@@ -108,6 +111,9 @@ int RunPayloadCommand(const PayloadCommand& c) {
     std::cerr << "Error: " << e.what() << "\n";
     status = kUsage;
   }
+  std::vector<UserRegion> regions;
+  if (status == kOk) status = ParseRegionOptions(c.regions, &regions);
+  if (status == kOk) status = ApplyRegionOptions(robot, regions, &*model);
   JointSamples with, baseline;
   if (status == kOk) status = ReadRobotLog(c.data, robot, csv, &with);
   if (status == kOk && !c.baseline.empty()) status = ReadRobotLog(c.baseline, robot, csv, &baseline);

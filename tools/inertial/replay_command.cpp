@@ -34,6 +34,7 @@ CLI::App* AddReplayCommand(CLI::App& app, ReplayCommand* c) {
   sub->add_option("--candump", c->candump, "a candump -l log of motor-driver frames (with --can-config)");
   sub->add_option("--can-config", c->can_config, "motors.yaml: which frames are which joint's, and how to decode them");
   sub->add_option("--effects", c->effects, "effects beyond rigid links (syntax of identify --effects)");
+  sub->add_option("--region", c->regions, kRegionHelp);
   sub->add_option("--channel", c->channel, "joint-state channel (default INERTIAL_JOINT_STATE, or the config's)");
   sub->add_option("--config", c->config, "inertiald's JSON config (its channel and message format are used)");
   sub->add_option("--out", c->out, "estimates as CSV: t, counts, per body mass and COM, effects, residuals");
@@ -269,6 +270,9 @@ int RunReplayCommand(const ReplayCommand& c) {
   std::vector<EffectSpec> effects;
   std::optional<RobotDynamics> model;
   status = LoadRobot(c.model, c.effects, Vector3(0, 0, -9.81), &robot, &effects, &model);
+  std::vector<UserRegion> regions;
+  if (status == kOk) status = ParseRegionOptions(c.regions, &regions);
+  if (status == kOk) status = ApplyRegionOptions(robot, regions, &*model);
   if (status == kOk) status = CheckMotorsFitModel(c, config.replay, *model);
   if (status != kOk) return status;
   config.replay.log_gains = StatedLogGains(robot, robot.effects);  // a log of currents, in N m first

@@ -8,6 +8,7 @@
 #include "exit_codes.hpp"
 #include "option_parsing.hpp"
 #include "inertial/formats/model_file.hpp"
+#include "inertial/formats/model_plausibility.hpp"
 #include "inertial/formats/number_parsing.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/consistency.hpp"
@@ -76,6 +77,62 @@ int LoadRobot(const std::string& urdf, const std::string& effects_text, const Ve
     std::cerr << "Error: --effects: " << e.what() << "\n";
     return kUsage;
   }
+  return kOk;
+}
+
+int ParseRegionOptions(const std::vector<std::string>& items, std::vector<UserRegion>* regions) {
+  for (const std::string& item : items) {
+    try {
+      regions->push_back(ParseUserRegion(item));
+    } catch (const InvalidNumber& e) {
+      std::cerr << "Error: " << e.what() << "\n";
+      return kInvalidValue;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "Error: --region " << item << ": " << e.what() << "\n";
+      return kUsage;
+    }
+  }
+  return kOk;
+}
+
+int ApplyRegionOptions(const RobotModel& robot, const std::vector<UserRegion>& regions, RobotDynamics* model,
+                       bool require_body) {
+  try {
+    ApplyUserRegions(robot, regions, model, require_body);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "Error: --region " << e.what() << "\n";
+    return kUsage;
+  }
+  return kOk;
+}
+
+int ParseTotalMassOption(const std::string& text, const RobotModel& robot, const RobotDynamics& model, bool held_links,
+                         std::optional<TotalMassBound>* bound) {
+  if (text.empty()) return kOk;
+  double total = 0.0;
+  // Up to 1e6 kg: beyond the heaviest machines a URDF describes (a robot weighed in grams is caught).
+  const int status = ParseRealOption(text, "--total-mass", 1e-9, 1e6, &total);
+  if (status != kOk) return status;
+  const double fixed = MassFixedToBase(robot);
+  const double links = LinkMassSum(model, Eigen::VectorXd::Zero(model.num_parameters()));
+  const double held = fixed + (held_links ? links : 0.0);
+  // The fit needs room under the bound for what it may move (total_mass_barrier.hpp, IntoTotalMassBound).
+  if (!(held < (1.0 - kTotalMassOnset) * total)) {
+    std::cerr << "Error: --total-mass " << text << ": the " << (held_links ? "links held at the URDF and those " : "links ")
+              << "fixed to the base already weigh " << FormatNumber(held, 4) << " kg by the URDF (fixed to the base: "
+              << LinksFixedToBase(robot) << "), which leaves the fit less than "
+              << FormatNumber(100.0 * kTotalMassOnset, 2) << " % of it\n";
+    return kUsage;
+  }
+  bound->emplace(TotalMassBound{total, fixed});
+  std::cerr << "note: --total-mass " << FormatNumber(total, 6) << " kg: the links' masses plus " << FormatNumber(fixed, 4)
+            << " kg fixed to the base (" << LinksFixedToBase(robot) << ") are kept at most it; the URDF's links weigh "
+            << FormatNumber(links, 4) << " kg";
+  if (fixed + links >= total) {
+    std::cerr << ", more than that: the fit starts from their masses scaled down by one factor to "
+              << FormatNumber(100.0 * (1.0 - kTotalMassOnset), 3) << " % of it";
+  }
+  std::cerr << "\n";
   return kOk;
 }
 

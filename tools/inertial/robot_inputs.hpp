@@ -8,6 +8,7 @@
 #include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/joint_csv.hpp"
+#include "inertial/formats/user_region.hpp"
 #include "inertial/signal/recorded_runs.hpp"
 
 namespace inertial::cli {
@@ -23,6 +24,33 @@ int LoadRobotModel(const std::string& urdf, RobotModel* robot);
 /// kInconsistentBody (with a repair hint), kIoError or kUsage on failure.
 int LoadRobot(const std::string& urdf, const std::string& effects_text, const Vector3& gravity, RobotModel* robot,
               std::vector<EffectSpec>* effects, std::optional<RobotDynamics>* model);
+
+/// The help text of --region, shared by the commands that fit.
+inline constexpr const char* kRegionHelp =
+    "LINK=cx,cy,cz,a,b,c[:rpy=r,p,y]: the region LINK's mass may occupy, replacing the automatic one: an ellipsoid "
+    "with centre (cx,cy,cz) and semi-axes a,b,c [m] along LINK's frame axes (or, with rpy, along those axes turned "
+    "by URDF roll-pitch-yaw), in LINK's frame; payload@LINK for a payload; it must hold the URDF's inertia (the fit "
+    "starts there); its mass bound is solid steel over it. Give it once per link";
+
+/// The help text of --total-mass, shared by the commands that fit.
+inline constexpr const char* kTotalMassHelp =
+    "the whole robot as weighed, links whose inertia is not estimated included: the fit keeps the links' masses "
+    "plus the URDF masses of the links fixed to the base at most this (payloads and rotors not counted), with a "
+    "barrier that acts only within 5 % of it";
+
+/// Parses every --region item (user_region.hpp); kOk, or kUsage / kInvalidValue (a value not a finite
+/// number) with the error printed, naming the item.
+int ParseRegionOptions(const std::vector<std::string>& items, std::vector<UserRegion>* regions);
+
+/// Applies the regions to *model (require_body: see ApplyUserRegions); kOk, or kUsage with the error printed.
+int ApplyRegionOptions(const RobotModel& robot, const std::vector<UserRegion>& regions, RobotDynamics* model,
+                       bool require_body = true);
+
+/// --total-mass (empty: none): the bound with the URDF mass fixed to the base (MassFixedToBase), a note
+/// on stderr of what it counts, into *bound. `held_links`: the links' masses are held at the URDF's
+/// (diagnose --hold-links), so they must leave room too. kOk, or kUsage / kInvalidValue with the error printed.
+int ParseTotalMassOption(const std::string& text, const RobotModel& robot, const RobotDynamics& model, bool held_links,
+                         std::optional<TotalMassBound>* bound);
 
 /// Reads a joint log for the robot's joints, printing the reader's notices; kIoError on failure.
 /// *lines (optional) gets each sample's line in the file.
@@ -50,6 +78,9 @@ struct RunPayloadFit {
   /// validate: every effect held at these stated values and the links at the model's, so that only
   /// the payload is fitted; empty: the effects fitted with the payload.
   std::optional<std::vector<ModelEffect>> stated_effects;
+  /// The user's regions (--region), applied to the fit's model (a payload@LINK region to the
+  /// model's own payload, not to a run's).
+  std::vector<UserRegion> regions;
   /// The last share of each run's duration left out of the fit (diagnose: its held-out share, split
   /// as SplitRunsHoldout splits it); 0: every sample.
   double holdout = 0.0;

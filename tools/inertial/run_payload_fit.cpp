@@ -127,6 +127,7 @@ int FitRunPayloads(const std::vector<std::string>& files, const std::vector<Join
     std::cerr << "Error: " << e.what() << "\n";
     return kUsage;
   }
+  if (const int status = ApplyRegionOptions(robot, fit.regions, &*model, false); status != kOk) return status;
   const int first = static_cast<int>(model->bodies().size() - fitted.size());
   std::vector<int> body_runs(model->bodies().size(), -1);
   for (size_t u = 0; u < fitted.size(); ++u) {

@@ -11,6 +11,8 @@
 #include "inertial/formats/body_csv.hpp"
 #include "inertial/report/diagnosis_html.hpp"
 #include "inertial/formats/model_file.hpp"
+#include "inertial/formats/model_plausibility.hpp"
+#include "inertial/report/plausibility_report.hpp"
 #include "inertial/report/validation_report.hpp"
 #include "option_parsing.hpp"
 #include "robot_inputs.hpp"
@@ -23,7 +25,8 @@ CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* c) {
       "Judge a model on a log without fitting it: RMS and relative RMS error per joint and in total, where it fails "
       "(the residual signatures of diagnose), predictions and report figures. The model is a URDF with every effect it "
       "states (<dynamics damping friction>, <inertial_effects>: what identify/replay/inertiald --write-urdf write), "
-      "or one body (--body --pi).");
+      "or one body (--body --pi). A robot's bodies are also judged for plausibility (against the priors a model file "
+      "records, else against their collision shapes or their density), as identify judges its fit.");
   sub->add_option("--model", c->model, "URDF robot model (robot data)");
   sub->add_flag("--body", c->body, "single-body data (CSV of diagnose --body); the body is --pi");
   sub->add_option("--pi", c->pi, "--body: the body's pi [m hx hy hz Ixx Iyy Izz Ixy Iyz Ixz]");
@@ -47,6 +50,9 @@ CLI::App* AddValidateCommand(CLI::App& app, ValidateCommand* c) {
   sub->add_option("--time-scale", c->time_scale,
                   "multiply the time stamps by this to get seconds (1e-3 for ms, 1e-9 for ns)");
   sub->add_flag("--skip-bad-rows", c->skip_bad_rows, "skip (and count) malformed rows of robot logs");
+  sub->add_option("--total-mass", c->total_mass,
+                  "robots: the whole robot as weighed; the model's links plus the URDF masses of the links fixed "
+                  "to the base are judged against it (a model heavier than the robot is not plausible)");
   sub->add_option("--predictions", c->predictions, "write t and the model's prediction of every channel (CSV)");
   sub->add_option("--report", c->report_dir, "write DIR/index.html (self-contained, with gnuplot figures)");
   sub->add_flag("--json", c->json, "print the result as JSON on stdout instead of the text report");
@@ -96,10 +102,19 @@ int AddedEffects(const std::string& effects_text, const std::string& values_text
   return kOk;
 }
 
-int Finish(const ValidateCommand& c, ModelValidation& v) {
-  const std::string text = ValidationText(v);
+// What validate adds to the validation for a robot: its bodies' plausibility (and the links' total
+// against --total-mass), as text after ValidationText's and as JSON fields.
+struct PlausibilitySection {
+  std::string text;
+  nlohmann::json json = nlohmann::json::object();
+};
+
+int Finish(const ValidateCommand& c, ModelValidation& v, const PlausibilitySection& plausibility = {}) {
+  const std::string text = ValidationText(v) + (plausibility.text.empty() ? "" : "\n" + plausibility.text);
   if (c.json) {
-    std::cout << ValidationJson(v).dump(2) << "\n";
+    nlohmann::json j = ValidationJson(v);
+    j.update(plausibility.json);
+    std::cout << j.dump(2) << "\n";
   } else {
     std::cout << text;
   }
@@ -128,9 +143,33 @@ int Finish(const ValidateCommand& c, ModelValidation& v) {
   return v.physically_consistent ? kOk : kInconsistentBody;
 }
 
+// The bodies judged (formats/model_plausibility.hpp) and, with --total-mass, the links' total.
+PlausibilitySection Plausibility(const RobotModel& robot, const RobotDynamics& model, const Eigen::VectorXd& x,
+                                 const std::optional<double>& total_mass) {
+  const std::vector<JudgedBody> judged = JudgeModelBodies(robot, model, x);
+  PlausibilitySection s;
+  s.text = ModelPlausibilityText(judged);
+  const nlohmann::json bodies = ModelPlausibilityJson(judged);
+  s.json["plausibility"] = bodies["bodies"];
+  bool plausible = bodies["plausible"].get<bool>();
+  if (total_mass) {
+    const TotalMassPlausibility t = JudgeTotalMass(model, x, TotalMassBound{*total_mass, MassFixedToBase(robot)});
+    s.text += TotalMassText(t) + TotalMassWarning(t);
+    s.json["total_mass"] = TotalMassJson(t);
+    plausible = plausible && t.within;
+  }
+  s.json["plausible"] = plausible;
+  return s;
+}
+
 int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
   Vector3 gravity;
   int status = ParseGravityOption(c.gravity, &gravity);
+  std::optional<double> total_mass;
+  if (status == kOk && !c.total_mass.empty()) {
+    total_mass.emplace();
+    status = ParseRealOption(c.total_mass, "--total-mass", 1e-9, 1e6, &*total_mass);
+  }
   if (status != kOk) return status;
   RobotModel robot;
   status = LoadRobotModel(c.model, &robot);
@@ -194,7 +233,7 @@ int RunRobot(const ValidateCommand& c, const JointCsvOptions& csv) {
     v.model_source += (&m == &effects.front() ? " with " : ", ") + std::string(ToString(m.spec.kind)) + "@" + m.spec.target;
   }
   v.data_source = RunsName(c.data);
-  return Finish(c, v);
+  return Finish(c, v, Plausibility(robot, *model, x, total_mass));
 }
 
 int RunBody(const ValidateCommand& c, double time_scale) {
@@ -261,6 +300,10 @@ int RunValidateCommand(const ValidateCommand& c) {
   }
   if (c.body && c.pi.empty()) {
     std::cerr << "Error: --body needs --pi (the body's 10 inertial parameters)\n";
+    return kUsage;
+  }
+  if (c.body && !c.total_mass.empty()) {
+    std::cerr << "Error: --total-mass is for a robot (--model): a single body has no links to weigh\n";
     return kUsage;
   }
   if (!c.body && !c.pi.empty()) {

@@ -29,6 +29,9 @@ void AddDaemonOptions(CLI::App& app, inertial::DaemonRequest* r) {
   app.add_option("--can", r->can_interface, "read the motors' frames from this SocketCAN interface (e.g. can0) instead of LCM");
   app.add_option("--can-config", r->can_config, "motors.yaml for --can: which frames are which joint's, and how to decode them");
   app.add_option("--effects", r->effects, "effects beyond rigid links (syntax of `inertial identify --effects`)");
+  app.add_option("--region", r->regions,
+                 "LINK=cx,cy,cz,a,b,c[:rpy=r,p,y]: the region LINK's mass may occupy, replacing the automatic one "
+                 "(syntax of `inertial identify --region`; payload@LINK for a payload); once per link");
   app.add_option("--config", r->config_path, "JSON configuration (channels, rates, checkpoint, message format)");
   app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default LCM's: udpm://239.255.76.67:7667)");
   app.add_option("--channel", o.channel, "joint-state channel (default INERTIAL_JOINT_STATE)");

@@ -54,6 +54,16 @@
 /// <dynamics> values of other tools' URDFs are often simulator settings, so they are not fitted
 /// unless asked for with --effects). Every number is parsed strictly (a finite decimal).
 ///
+/// Priors (the model file). A model file written by inertial records, in a second extension
+/// element, each link's inertia in the URDF it was identified from (the fit's prior), in the link's
+/// frame, so that the file's values can be judged against the drawing (validate, check:
+/// formats/model_plausibility.hpp):
+///     <inertial_priors version="1">
+///       <prior link="L"><inertial>...</inertial></prior>        (L: a link that starts a moving body)
+///     </inertial_priors>
+/// RobotModel::recorded_priors holds them; nothing else uses them (a fit from a model file starts
+/// from the file's own inertias). Read strictly, like <inertial_effects>.
+///
 /// Limits (refused before urdfdom sees the file), each bounding a cost that grows faster than the
 /// file: a file over kMaxUrdfBytes (input_file.hpp); a tag with more than kMaxUrdfAttributes
 /// attributes (checked before any XML parser runs: tinyxml2 and urdfdom look for a duplicate
@@ -134,6 +144,9 @@ struct RobotModel {
   std::vector<ModelEffect> effects;
   /// One flag per effect: stated in <inertial_effects> (not only as a <dynamics> value).
   std::vector<bool> effect_declared;
+  /// The priors <inertial_priors> records (see the file comment): body link -> pi about its frame
+  /// origin in its axes (= its body's frame). Empty for a URDF that is not a model file.
+  std::map<std::string, InertialParams> recorded_priors;
 
   /// The specs of the effects <inertial_effects> states (payload and rotor inertias as priors).
   std::vector<EffectSpec> DeclaredEffects() const;

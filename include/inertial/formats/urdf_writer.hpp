@@ -30,6 +30,9 @@ struct UrdfModelChanges {
   /// Set: the model's effects replace the file's (urdf_model.hpp, the model file): <dynamics
   /// damping friction> of every moving joint and one <inertial_effects> element.
   std::optional<std::vector<ModelEffect>> effects;
+  /// Set: one <inertial_priors> (urdf_model.hpp) recording these link priors replaces the file's
+  /// (none written if empty): link name -> pi about its frame origin in its axes.
+  std::optional<std::map<std::string, InertialParams>> priors;
   /// A comment to place inside an element: a link name ("thigh") or an effect ("payload@tool0").
   std::map<std::string, std::string> notes;
   /// What the top comment says about where the values come from (e.g. "identified from run1.csv").

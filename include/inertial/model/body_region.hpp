@@ -53,7 +53,8 @@ inline constexpr double kSegmentRegionMargin = 0.25;
 inline constexpr double kWellInsideSlack = 0.1;
 
 enum class RegionSource { kShape, kSegment, kPayloadReach, kUser };
-/// "collision geometry", "joints and prior", "payload reach", "given".
+/// "collision geometry", "joints and prior", "payload reach", "the user (--region)" (each follows
+/// "region from" in the reports).
 const char* ToString(RegionSource source);
 
 struct BodyRegion {
@@ -67,6 +68,12 @@ struct BodyRegion {
 /// @throws std::invalid_argument if the prior is not fully consistent or the points are not finite.
 BodyRegion RegionAround(const std::vector<Vector3>& points, const InertialParams& prior, double margin,
                         RegionSource source);
+
+/// The region of the smallest ellipsoid holding `points` alone, its semi-axes multiplied by
+/// 1 + margin: what the link's geometry says without its inertia. Not for a fit (its prior need not
+/// be inside); for judging a drawn inertia against the drawing's own shapes (validate, check).
+/// @throws std::invalid_argument as MinimumVolumeEllipsoid (fewer than 4 points, points in a plane).
+BodyRegion RegionOfPoints(const std::vector<Vector3>& points, double margin, RegionSource source);
 
 /// Points around a ball, circumscribing it: 26 directions (the cube's faces, edges and corners)
 /// at radius r / 0.9 (the polytope of those 26 unit directions holds the ball of radius 0.9, more

@@ -41,6 +41,7 @@ struct RegionPlausibility {
   bool inside = true;       ///< slack >= 0 and mass <= max_mass
   bool on_edge = false;     ///< inside, slack < kRegionEdgeSlack
   bool plausible = true;    ///< inside, and the mass ratio within kImplausibleMassRatio
+  bool mass_compared = true;  ///< the mass was judged against the prior's (JudgeAgainstRegion's drawn_prior)
   /// Empty when plausible and not on the edge; otherwise what is wrong, in a sentence without the
   /// body's name (the caller prefixes it).
   std::string words;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "inertial/config/daemon_config.hpp"
 #include "inertial/config/daemon_overrides.hpp"
@@ -26,6 +27,9 @@ struct DaemonRequest {
   std::string can_config;     ///< motors.yaml of can_interface
   std::string config_path;    ///< the JSON configuration (empty: none)
   std::string write_urdf;     ///< robot: the estimate as a model file at exit and on request (empty: none)
+  /// robot: regions given by the user, each --region's text (formats/user_region.hpp), replacing the
+  /// automatic ones of the bodies they name.
+  std::vector<std::string> regions;
   DaemonOverrides overrides;  ///< the command line's settings over the configuration's
 };
 

@@ -77,7 +77,10 @@ DenseLevenbergMarquardtResult FitInLogSpace(const RobotDynamics& model, const Ga
       }
     }
     // Every body inside its region, as in IdentifyJointModel (region_barrier.hpp).
-    const double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, grad, H);
+    double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, grad, H);
+    if (options.total_mass && std::isfinite(barrier)) {  // and within the robot's weighed mass
+      barrier += AddTotalMassBarrier(model, *options.total_mass, x, mu, options.newton, options.frozen_bodies, grad, H);
+    }
     if (!std::isfinite(barrier)) return false;
     if (derivatives) HoldParameters(options, grad, H);
     *cost = 0.5 * (std::max(data, 0.0) + options.prior_weight * reg + mu * barrier);

@@ -272,6 +272,14 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
       x0.segment<10>(10 * e).setZero();
     }
   }
+  if (options.total_mass) {  // a start beyond the weighed mass: the links that may move scaled down
+    std::vector<bool> movable(static_cast<size_t>(B), true);
+    for (int e = 0; e < B; ++e) movable[static_cast<size_t>(e)] = !IsFrozen(options.frozen_bodies, e);
+    for (int p : options.held_parameters) {
+      if (p < 10 * B && p % 10 == 0) movable[static_cast<size_t>(p / 10)] = false;  // a held alpha: a held mass
+    }
+    x0 = IntoTotalMassBound(model, *options.total_mass, x0, movable);
+  }
   result.x_initial = x0;
 
   const double gamma = options.prior_weight;
@@ -302,7 +310,11 @@ JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const J
       }
     }
     // Every body inside its region (region_barrier.hpp); outside, Levenberg-Marquardt rejects the step.
-    const double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, g, H);
+    double barrier = AddRegionBarriers(model, x, mu, options.newton, options.frozen_bodies, g, H);
+    // The links' masses within the robot's weighed total (total_mass_barrier.hpp), with the same weight.
+    if (options.total_mass && std::isfinite(barrier)) {
+      barrier += AddTotalMassBarrier(model, *options.total_mass, x, mu, options.newton, options.frozen_bodies, g, H);
+    }
     if (!std::isfinite(barrier)) return false;
     if (derivatives) HoldParameters(options, g, H);
     *cost = 0.5 * (data_sq + gamma * reg + mu * barrier);

@@ -5,24 +5,19 @@
 #include <limits>
 
 namespace inertial {
-namespace {
-
-// phi(s) of the file comment with its first and second derivative (0 at and above kBarrierOnset).
-struct Phi {
-  double value = 0.0, first = 0.0, second = 0.0;
-};
-Phi OneSidedLog(double s) {
-  constexpr double s0 = kBarrierOnset;
-  Phi p;
+OneSidedLog OneSidedLogBarrier(double s, double s0) {
+  OneSidedLog p;
   if (s >= s0) return p;
+  if (!(s > 0.0)) {
+    p.value = std::numeric_limits<double>::infinity();
+    return p;
+  }
   const double u = s / s0 - 1.0;
   p.value = -std::log(s / s0) + u - 0.5 * u * u;
   p.first = -1.0 / s + 2.0 / s0 - s / (s0 * s0);
   p.second = 1.0 / (s * s) - 1.0 / (s0 * s0);
   return p;
 }
-
-}  // namespace
 
 double RegionBarrier(const EstimatedBody& body, const Vector10& theta, bool newton, Vector10* g, Matrix10* H) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -33,7 +28,7 @@ double RegionBarrier(const EstimatedBody& body, const Vector10& theta, bool newt
   const double a = q.dot(pi), m = pi[0];
   if (!pi.allFinite() || !(a > 0.0) || !(m > 0.0) || !(m < region.max_mass)) return kInfinity;
   const double s = a / m, r = 1.0 - m / region.max_mass;
-  const Phi ps = OneSidedLog(s), pr = OneSidedLog(r);
+  const OneSidedLog ps = OneSidedLogBarrier(s, kBarrierOnset), pr = OneSidedLogBarrier(r, kBarrierOnset);
   const double value = ps.value + pr.value;
   if (!std::isfinite(value)) return kInfinity;
   if (g == nullptr && H == nullptr) return value;

@@ -53,6 +53,31 @@ TEST(RegionBarrier, DerivativesMatchFiniteDifferences) {
   EXPECT_GT(RegionSlack(body, Vector10::Zero()), 0.0);
 }
 
+// phi with its onset as a parameter: C^2 at the onset (value, slope and curvature vanish there),
+// its derivatives those of its value, +infinity at and below 0.
+TEST(RegionBarrier, OneSidedLogIsC2AtItsOnset) {
+  for (double s0 : {0.1, 0.05}) {
+    const OneSidedLog at = OneSidedLogBarrier(s0 * (1 - 1e-7), s0);
+    EXPECT_NEAR(at.value, 0.0, 1e-18);
+    EXPECT_NEAR(at.first, 0.0, 1e-10 / s0);
+    EXPECT_NEAR(at.second, 0.0, 1e-5 / (s0 * s0));
+    const OneSidedLog above = OneSidedLogBarrier(1.5 * s0, s0);
+    EXPECT_EQ(above.value, 0.0);
+    EXPECT_EQ(above.first, 0.0);
+    EXPECT_EQ(above.second, 0.0);
+    for (double s : {0.01 * s0, 0.3 * s0, 0.9 * s0}) {
+      const double h = 1e-7 * s0;
+      const OneSidedLog p = OneSidedLogBarrier(s, s0), up = OneSidedLogBarrier(s + h, s0), down = OneSidedLogBarrier(s - h, s0);
+      EXPECT_NEAR(p.first, (up.value - down.value) / (2 * h), 1e-6 * (1 + std::abs(p.first))) << s;
+      EXPECT_NEAR(p.second, (up.first - down.first) / (2 * h), 1e-6 * (1 + std::abs(p.second))) << s;
+      EXPECT_LT(p.first, 0.0);
+      EXPECT_GT(p.second, 0.0);
+    }
+    EXPECT_EQ(OneSidedLogBarrier(0.0, s0).value, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(OneSidedLogBarrier(-0.1, s0).value, std::numeric_limits<double>::infinity());
+  }
+}
+
 // The data of a shank carrying 0.3 kg 0.35 m beside it (outside the region a shank can occupy): the
 // fit without regions follows the data out of the region; with them it stays inside at every
 // iterate and ends on the region's edge (slack small and positive), and the other links are unharmed.

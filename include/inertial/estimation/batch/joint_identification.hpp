@@ -9,14 +9,18 @@
 /// divergence (log_det_divergence.hpp), which fixes the directions the data cannot see. Every body
 /// with a region (EstimatedBody::region) is kept inside it by a smooth barrier added to the cost
 /// (region_barrier.hpp), so every iterate is a body the robot could have, not only a consistent one.
+/// With the robot's weighed mass (JointIdentificationOptions::total_mass), a barrier of the same kind
+/// keeps the links' masses from adding up to more (total_mass_barrier.hpp).
 /// The data enter only through A^T A, A^T tau and tau^T tau (accumulated once; each iteration then
 /// costs O(parameters^3), independent of the number of samples).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "inertial/estimation/batch/dense_levenberg_marquardt.hpp"
+#include "inertial/estimation/batch/total_mass_barrier.hpp"
 #include "inertial/model/joint_samples.hpp"
 #include "inertial/model/robot_dynamics.hpp"
 
@@ -63,6 +67,10 @@ struct JointIdentificationOptions {
   std::vector<int> held_parameters;
   /// Start of the fit (size num_parameters), or empty for the default start below.
   Eigen::VectorXd initial;
+  /// The robot as weighed: the links' masses (estimated and frozen) plus what is fixed to the base
+  /// kept at most its total (total_mass_barrier.hpp); none: no bound. A start beyond it is brought
+  /// inside first (IntoTotalMassBound: the links whose mass may move scaled by one factor).
+  std::optional<TotalMassBound> total_mass;
 };
 
 struct JointIdentificationResult {
@@ -90,7 +98,8 @@ void HoldParameters(const JointIdentificationOptions& options, Eigen::VectorXd* 
 
 /// Fits from options.initial, or from DefaultInitialParameters.
 /// @throws std::invalid_argument if the statistics, the start, frozen_bodies or held_parameters do
-/// not match the model, or the prior weight is negative or not finite.
+/// not match the model, the prior weight is negative or not finite, or total_mass is not a positive
+/// finite bound or leaves no room for the links the fit may move (IntoTotalMassBound).
 JointIdentificationResult IdentifyJointModel(const RobotDynamics& model, const JointNormalEquations& data,
                                              const JointIdentificationOptions& options = {});
 

@@ -52,6 +52,14 @@ inline constexpr double kBarrierOnset = kWellInsideSlack;
 /// mu's share of one sample's squared torque (file comment).
 inline constexpr double kRegionBarrierWeight = 0.05;
 
+/// phi of the file comment with onset s0 (> 0) in place of kBarrierOnset, with its first and second
+/// derivative: zero at and above s0, +infinity at and below 0. Below s0, phi' = -(1/s)(1 - s/s0)^2 <= 0
+/// and phi'' = 1/s^2 - 1/s0^2 >= 0. Shared with the total-mass barrier (total_mass_barrier.hpp).
+struct OneSidedLog {
+  double value = 0.0, first = 0.0, second = 0.0;
+};
+OneSidedLog OneSidedLogBarrier(double s, double s0);
+
 /// mu = kRegionBarrierWeight * btb / num_samples of the statistics the fit minimizes over (a tiny
 /// positive floor without data).
 double RegionBarrierWeight(double btb, int num_samples);
