@@ -11,6 +11,8 @@
 #include "inertial/diagnosis/joint_diagnosis.hpp"
 #include "inertial/report/diagnosis_report.hpp"
 #include "inertial/report/identification_report.hpp"
+#include "inertial/formats/model_plausibility.hpp"
+#include "inertial/report/plausibility_report.hpp"
 #include "inertial/report/validation_report.hpp"
 #include "robot.hpp"
 
@@ -109,7 +111,12 @@ py::dict Validate(const Robot& robot, const py::object& data, const std::optiona
                         "@" + e.spec.target;
     }
     v.data_source = IsPath(data) ? PathOf(data, "data") : std::string("arrays");
-    return ToPython(ValidationJson(v));
+    nlohmann::json j = ValidationJson(v);
+    // The bodies' plausibility, as `inertial validate --json` adds it (without --total-mass).
+    const nlohmann::json judged = ModelPlausibilityJson(JudgeModelBodies(robot.model, robot.dynamics, x));
+    j["plausibility"] = judged["bodies"];
+    j["plausible"] = judged["plausible"];
+    return ToPython(j);
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());
   }
