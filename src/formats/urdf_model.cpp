@@ -11,9 +11,12 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <filesystem>
+#include <optional>
 #include <mutex>
 
 #include "inertial/formats/input_file.hpp"
+#include "inertial/formats/mesh_vertices.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/model/body_region.hpp"
 #include "inertial/formats/number_parsing.hpp"
@@ -457,51 +460,102 @@ UrdfLinkInertial ConvertInertial(const urdf::Link& link, const std::string& sour
 
 bool IsZero(const InertialParams& pi) { return (pi.vector().array() == 0.0).all(); }
 
-// Points on the collision primitives of `link` in its own frame (body_region.hpp): boxes, cylinders
-// and spheres; *meshes counts the mesh shapes, which are not read (their files are rarely at hand).
-std::vector<Vector3> CollisionPoints(const urdf::Link& link, int* meshes) {
+// Each mesh file read once per URDF: its EnclosingSubset in the file's units, by resolved path.
+using MeshCache = std::map<std::string, std::vector<Vector3>>;
+
+// Points on one collision shape (primitive or mesh) posed at `origin` in its link's frame
+// (body_region.hpp). A mesh is read when its file is found (mesh_vertices.hpp); otherwise *unread
+// names it and no point is returned.
+std::vector<Vector3> ShapePoints(const urdf::Geometry& geometry, const urdf::Pose& origin,
+                                 const std::string& mesh_directory, MeshCache* cache, std::vector<std::string>* unread) {
+  const Matrix3 R = RotationOf(origin.rotation);
+  const Vector3 p = VectorOf(origin.position);
+  switch (geometry.type) {
+    case urdf::Geometry::SPHERE: return ShapePointsOfSphere(p, static_cast<const urdf::Sphere&>(geometry).radius);
+    case urdf::Geometry::BOX: return ShapePointsOfBox(R, p, VectorOf(static_cast<const urdf::Box&>(geometry).dim));
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      return ShapePointsOfCylinder(R, p, cylinder.radius, cylinder.length);
+    }
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
+      if (mesh_directory.empty()) {
+        unread->push_back(mesh.filename + " (URDF text without a folder: meshes not looked for)");
+        return {};
+      }
+      // A scale is a unit conversion (1e-3 for millimetres) or a mirror: 1e-6 to 1e3 in size.
+      const Vector3 scale = VectorOf(mesh.scale);
+      if (!scale.allFinite() || scale.cwiseAbs().minCoeff() < 1e-6 || scale.cwiseAbs().maxCoeff() > 1e3) {
+        unread->push_back(mesh.filename + " (scale " + FormatNumber(scale.x(), 6) + " " + FormatNumber(scale.y(), 6) + " " +
+                          FormatNumber(scale.z(), 6) + " is not a size between 1e-6 and 1e3)");
+        return {};
+      }
+      const std::optional<std::string> path = ResolveMeshUri(mesh.filename, mesh_directory);
+      if (!path) {
+        unread->push_back(mesh.filename + " (not found)");
+        return {};
+      }
+      auto cached = cache->find(*path);
+      if (cached == cache->end()) {
+        try {
+          cached = cache->emplace(*path, EnclosingSubset(ReadMeshVertices(*path))).first;
+        } catch (const MeshError& e) {
+          cached = cache->emplace(*path, std::vector<Vector3>{}).first;  // refused once, named each time
+          unread->push_back(e.what());
+          return {};
+        }
+      }
+      if (cached->second.empty()) {
+        unread->push_back(mesh.filename + " (" + *path + " could not be read)");
+        return {};
+      }
+      std::vector<Vector3> points = cached->second;
+      for (Vector3& x : points) x = R * scale.cwiseProduct(x) + p;
+      return points;
+    }
+  }
+  return {};
+}
+
+// Points on the collision shapes of `link` in its own frame (body_region.hpp); meshes that cannot be
+// read are named in *unread. Visual shapes are not used: they are drawn for looks (a thin cylinder
+// for an arm's link), not to enclose its material as collision shapes are.
+std::vector<Vector3> LinkShapePoints(const urdf::Link& link, const std::string& mesh_directory, MeshCache* cache,
+                                     std::vector<std::string>* unread) {
   std::vector<Vector3> points;
   for (const urdf::CollisionSharedPtr& c : link.collision_array) {
     if (!c || !c->geometry) continue;
-    const Matrix3 R = RotationOf(c->origin.rotation);
-    const Vector3 p = VectorOf(c->origin.position);
-    std::vector<Vector3> shape;
-    switch (c->geometry->type) {
-      case urdf::Geometry::SPHERE: {
-        const auto& sphere = static_cast<const urdf::Sphere&>(*c->geometry);
-        shape = ShapePointsOfSphere(p, sphere.radius);
-        break;
-      }
-      case urdf::Geometry::BOX: {
-        const auto& box = static_cast<const urdf::Box&>(*c->geometry);
-        shape = ShapePointsOfBox(R, p, VectorOf(box.dim));
-        break;
-      }
-      case urdf::Geometry::CYLINDER: {
-        const auto& cylinder = static_cast<const urdf::Cylinder&>(*c->geometry);
-        shape = ShapePointsOfCylinder(R, p, cylinder.radius, cylinder.length);
-        break;
-      }
-      default: ++*meshes; break;
-    }
-    for (const Vector3& x : shape) {
+    for (const Vector3& x : ShapePoints(*c->geometry, c->origin, mesh_directory, cache, unread)) {
       if (x.allFinite()) points.push_back(x);
     }
   }
   return points;
 }
 
-// Every tree body's collision points in its own frame (the links merged into it included).
-void GatherShapes(const urdf::ModelInterfaceSharedPtr& urdf_model, RobotModel* model) {
+// Every tree body's collision points in its own frame (the links merged into it included). A body
+// some of whose material is not drawn (a mesh not read, or a link with mass and no collision shape)
+// gets none: part of a drawing would bound only part of the body (body_region.hpp, source 2 instead).
+void GatherShapes(const urdf::ModelInterfaceSharedPtr& urdf_model, const std::string& mesh_directory, RobotModel* model) {
   model->body_shape_points.assign(model->body_links.size(), {});
   model->body_shape_meshes.assign(model->body_links.size(), 0);
+  std::vector<bool> undrawn(model->body_links.size(), false);
+  MeshCache cache;
   for (const auto& [name, placement] : model->placements) {
     if (placement.body < 0) continue;
     const urdf::LinkConstSharedPtr link = urdf_model->getLink(name);
     if (!link) continue;
-    for (const Vector3& x : CollisionPoints(*link, &model->body_shape_meshes[placement.body])) {
+    std::vector<std::string> unread;
+    const std::vector<Vector3> points = LinkShapePoints(*link, mesh_directory, &cache, &unread);
+    for (const Vector3& x : points) {
       model->body_shape_points[placement.body].push_back(placement.X_body_link.R_AB * x + placement.X_body_link.p_AB);
     }
+    model->body_shape_meshes[placement.body] += static_cast<int>(unread.size());
+    for (const std::string& u : unread) model->unread_meshes.push_back(name + ": " + u);
+    const bool has_mass = link->inertial && link->inertial->mass > 0.0;
+    if (!unread.empty() || (has_mass && points.empty())) undrawn[placement.body] = true;
+  }
+  for (std::size_t b = 0; b < undrawn.size(); ++b) {
+    if (undrawn[b]) model->body_shape_points[b].clear();
   }
 }
 
@@ -661,7 +715,7 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
   std::vector<PendingBody> bodies = PlaceLinks(urdf_model, order.joints, src, &model);
   MergeInertials(model, options, src, &bodies);
   AddBodies(bodies, options, src, &model);
-  GatherShapes(urdf_model, &model);
+  GatherShapes(urdf_model, options.mesh_directory, &model);
 
   model.effects = detail::ReadModelEffects(robot_element, src, model.dof_names, &model.effect_declared);
   model.recorded_priors = detail::ReadRecordedPriors(robot_element, src, model.body_links);
@@ -670,7 +724,12 @@ RobotModel ParseUrdf(const std::string& xml, const std::string& source_name, con
 }
 
 RobotModel LoadUrdf(const std::string& path, const UrdfLoadOptions& options) {
-  return ParseUrdf(ReadUrdfFile(path), path, options);
+  UrdfLoadOptions with_directory = options;
+  if (with_directory.mesh_directory.empty()) {
+    with_directory.mesh_directory = std::filesystem::path(path).parent_path().string();
+    if (with_directory.mesh_directory.empty()) with_directory.mesh_directory = ".";
+  }
+  return ParseUrdf(ReadUrdfFile(path), path, with_directory);
 }
 
 std::string ReadUrdfFile(const std::string& path) {

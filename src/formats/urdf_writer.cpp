@@ -1,5 +1,6 @@
 #include "inertial/formats/urdf_writer.hpp"
 #include "inertial/formats/file_error.hpp"
+#include "inertial/formats/mesh_vertices.hpp"
 #include "inertial/model/number_text.hpp"
 
 #include <sys/stat.h>
@@ -13,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -163,6 +165,30 @@ void ApplyChanges(const UrdfModelChanges& changes, const std::map<std::string, J
 
 }
 
+// Meshes the input names relative to its folder (a path, or `package://` found above it) that the
+// written file's folder would not find: named by their absolute path (file://), so that the
+// written model's links keep the regions their meshes drew (body_region.hpp). Other meshes, and
+// those not found from the input either, are left as they are.
+void KeepMeshesFound(tinyxml2::XMLElement* robot, const std::string& in_path, const std::string& out_path) {
+  namespace fs = std::filesystem;
+  const std::string in_dir = fs::path(in_path).parent_path().empty() ? "." : fs::path(in_path).parent_path().string();
+  const std::string out_dir = fs::path(out_path).parent_path().empty() ? "." : fs::path(out_path).parent_path().string();
+  std::vector<tinyxml2::XMLElement*> stack{robot};
+  while (!stack.empty()) {
+    tinyxml2::XMLElement* e = stack.back();
+    stack.pop_back();
+    for (tinyxml2::XMLElement* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) stack.push_back(c);
+    if (std::strcmp(e->Name(), "mesh") != 0 || e->Attribute("filename") == nullptr) continue;
+    const std::string uri = e->Attribute("filename");
+    const std::optional<std::string> from_in = ResolveMeshUri(uri, in_dir);
+    if (!from_in) continue;
+    const std::optional<std::string> from_out = ResolveMeshUri(uri, out_dir);
+    std::error_code ec;
+    if (from_out && fs::equivalent(*from_in, *from_out, ec)) continue;
+    e->SetAttribute("filename", ("file://" + fs::absolute(*from_in, ec).lexically_normal().string()).c_str());
+  }
+}
+
 // One note of ours at the top of doc: an earlier one (the file was written by inertial before) is
 // replaced.
 void ReplaceNote(tinyxml2::XMLDocument& doc, const std::string& note) {
@@ -235,6 +261,7 @@ void WriteChanges(const std::string& in_path, const std::string& out_path, const
     RequireKnown(Keys(*changes.priors), links, in_path, "link");
     detail::WriteRecordedPriors(doc, robot, *changes.priors, in_path);
   }
+  KeepMeshesFound(robot, in_path, out_path);
   ReplaceNote(doc, ChangeSummary(changes, dynamics, in_path));
   tinyxml2::XMLPrinter printer;
   doc.Print(&printer);

@@ -11,7 +11,7 @@ namespace inertial {
 
 const char* ToString(RegionSource source) {
   switch (source) {
-    case RegionSource::kShape: return "collision geometry";
+    case RegionSource::kShape: return "drawn geometry";
     case RegionSource::kSegment: return "joints and prior";
     case RegionSource::kPayloadReach: return "payload reach";
     case RegionSource::kUser: return "the user (--region)";

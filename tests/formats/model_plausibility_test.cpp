@@ -88,7 +88,7 @@ TEST(ModelPlausibility, ADrawingIsJudgedAgainstItsCollisionShapes) {
   const std::vector<JudgedBody> beside = Judge(ParseUrdf(arm(Vector3(0, 0.3, 0.2)), "<beside>"));
   EXPECT_FALSE(beside[0].plausibility.plausible);
   EXPECT_LT(beside[0].plausibility.slack, 0.0);
-  EXPECT_NE(beside[0].plausibility.words.find("outside its region (collision geometry)"), std::string::npos)
+  EXPECT_NE(beside[0].plausibility.words.find("outside its region (drawn geometry)"), std::string::npos)
       << beside[0].plausibility.words;
 }
 

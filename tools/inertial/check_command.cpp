@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "option_parsing.hpp"
+#include "robot_inputs.hpp"
 #include "inertial/formats/link_inertial_check.hpp"
 #include "inertial/formats/model_file.hpp"
 #include "inertial/formats/model_plausibility.hpp"
@@ -43,6 +44,7 @@ void JudgePlausibility(const std::string& path, const std::optional<double>& tot
   std::optional<RobotDynamics> model;
   try {
     robot = LoadUrdf(path);
+    PrintUnreadMeshesNote(robot, path);
     model.emplace(MakeRobotDynamics(robot, robot.DeclaredEffects()));
   } catch (const std::exception& e) {
     *text = "Plausibility: not judged (the file does not load as a model: " + std::string(e.what()) + ")\n";

@@ -32,6 +32,17 @@ int ParseGravityOption(const std::string& text, Vector3* gravity) {
   return kOk;
 }
 
+void PrintUnreadMeshesNote(const RobotModel& robot, const std::string& urdf) {
+  // Meshes that could have drawn a link's region: the link falls back on its segment (body_region.hpp).
+  if (robot.unread_meshes.empty()) return;
+  std::cerr << "note: " << robot.unread_meshes.size() << " mesh" << (robot.unread_meshes.size() == 1 ? "" : "es")
+            << " of " << urdf << " not read, so the bodies they draw get their regions from their joints and priors: "
+            << robot.unread_meshes.front();
+  for (std::size_t i = 1; i < std::min<std::size_t>(robot.unread_meshes.size(), 3); ++i) std::cerr << "; " << robot.unread_meshes[i];
+  if (robot.unread_meshes.size() > 3) std::cerr << "; and " << robot.unread_meshes.size() - 3 << " more";
+  std::cerr << " (package:// is looked for in $ROS_PACKAGE_PATH, $AMENT_PREFIX_PATH/share and above the URDF)\n";
+}
+
 int LoadRobotModel(const std::string& urdf, RobotModel* robot) {
   try {
     *robot = LoadUrdf(urdf);
@@ -43,6 +54,7 @@ int LoadRobotModel(const std::string& urdf, RobotModel* robot) {
     }
     return kIoError;
   }
+  PrintUnreadMeshesNote(*robot, urdf);
   return kOk;
 }
 

@@ -18,6 +18,8 @@ int ParseGravityOption(const std::string& text, Vector3* gravity);
 
 /// Loads the URDF; kInconsistentBody (with a repair hint) or kIoError on failure, the error printed.
 int LoadRobotModel(const std::string& urdf, RobotModel* robot);
+/// "note: N meshes of URDF not read, ..." on stderr, naming the first three (RobotModel::unread_meshes).
+void PrintUnreadMeshesNote(const RobotModel& robot, const std::string& urdf);
 
 /// Loads the URDF and builds its model with the effects the file declares (<inertial_effects>) and
 /// `effects` (parsed from the --effects text; replacing a declared one of the same kind and target).

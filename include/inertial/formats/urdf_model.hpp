@@ -132,10 +132,14 @@ struct RobotModel {
   KinematicTree tree;
   std::vector<std::string> body_links;  ///< the URDF link name of each tree body
   std::vector<bool> body_has_inertial;  ///< some link merged into that body has an <inertial>
-  /// Per tree body: points on the collision primitives (box, cylinder, sphere) of the links merged
-  /// into it, in its frame (body_region.hpp), and how many collision meshes were not read.
+  /// Per tree body: points on the collision shapes of the links merged into it, in its frame
+  /// (body_region.hpp): primitives, and meshes whose files are found (mesh_vertices.hpp); none for
+  /// a body some of whose material is not drawn (a mesh not read, a link with mass and no collision
+  /// shape). And how many of its meshes were not read.
   std::vector<std::vector<Vector3>> body_shape_points;
   std::vector<int> body_shape_meshes;
+  /// "LINK: URI (not found)" or the reader's error, for every mesh that was not read.
+  std::vector<std::string> unread_meshes;
   std::vector<std::string> dof_names;   ///< the joint name of each DOF, in the tree's DOF order
   std::vector<JointLimits> dof_limits;  ///< the <limit> of each DOF (infinite where none is stated)
   std::vector<UrdfLinkInertial> links;  ///< every link of the file, in file order
@@ -164,6 +168,10 @@ struct RobotModel {
 
 struct UrdfLoadOptions {
   bool require_consistent_inertials = true;
+  /// Where relative mesh paths and `package://` URIs are looked for (ResolveMeshUri); LoadUrdf
+  /// takes the URDF's own folder when this is empty. Empty in ParseUrdf: meshes are not read (text
+  /// handed over has no folder; nothing is read from the working directory behind a caller's back).
+  std::string mesh_directory;
 };
 
 /// Reads and loads the URDF file at `path`. @throws UrdfError (see the file comment).

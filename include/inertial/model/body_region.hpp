@@ -5,13 +5,16 @@
 /// can hold.
 ///
 /// Where a region comes from, in this order:
-///  1. The link's own shape: the URDF's collision primitives (box, cylinder, sphere) of every link
-///     merged into the body (formats/ reads them: ShapePoints*), with kShapeRegionMargin. Collision
-///     shapes are drawn to enclose the link for collision checking, so they hold its mass already;
-///     the margin covers what they leave out (cables, connectors) and the point sampling of round
-///     shapes (already circumscribed, ShapePointsOfSphere).
-///  2. Otherwise (meshes only, as most vendor URDFs name `package://` files that are not at hand,
-///     or no geometry): the link's segment, i.e. its joint (the frame origin), the joints of the
+///  1. The link's own shape ("drawn geometry"): the URDF's collision shapes of every link merged
+///     into the body (formats/ reads them: primitives by ShapePoints*, meshes whose files are at
+///     hand by formats/mesh_vertices.hpp), when they draw all of the body's material (no mesh left
+///     unread, no link with mass undrawn), with kShapeRegionMargin. Visual shapes are not used:
+///     they are drawn for looks, not to enclose. Collision shapes are drawn to enclose the link for collision
+///     checking, so they hold its mass already; the margin covers what they leave out (cables,
+///     connectors) and the point sampling of round shapes (already circumscribed,
+///     ShapePointsOfSphere).
+///  2. Otherwise (meshes whose files are not at hand, as most vendor URDFs name `package://` files
+///     that are not shipped with the URDF, or no geometry): the link's segment, i.e. its joint (the frame origin), the joints of the
 ///     bodies it carries and the frames fixed to it (a flange, tool0), each dilated by a ball of the prior's RMS radius rho0 = sqrt(tr(Sigma_c)/m)
 ///     (a link is a shell about its joint axes about as thick as its own mass is spread), with
 ///     kSegmentRegionMargin. The margin: CAD moments are up to about 50 % off (plausibility.hpp),
@@ -53,7 +56,7 @@ inline constexpr double kSegmentRegionMargin = 0.25;
 inline constexpr double kWellInsideSlack = 0.1;
 
 enum class RegionSource { kShape, kSegment, kPayloadReach, kUser };
-/// "collision geometry", "joints and prior", "payload reach", "the user (--region)" (each follows
+/// "drawn geometry", "joints and prior", "payload reach", "the user (--region)" (each follows
 /// "region from" in the reports).
 const char* ToString(RegionSource source);
 

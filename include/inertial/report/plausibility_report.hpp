@@ -18,7 +18,7 @@
 
 namespace inertial {
 
-/// "plausible: region from collision geometry, slack 0.42, density 1230 kg/m^3 over it, mass 1.05 x
+/// "plausible: region from drawn geometry, slack 0.42, density 1230 kg/m^3 over it, mass 1.05 x
 /// the URDF's" (or "NOT plausible: ...; <words>"); the mass ratio only where it was judged
 /// (RegionPlausibility::mass_compared: the prior is a drawing other than the body itself).
 std::string PlausibilityText(const EstimatedBody& body, const RegionPlausibility& p);
