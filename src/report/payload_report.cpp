@@ -86,7 +86,8 @@ std::string PayloadText(const PayloadIdentification& r) {
          "noise (" + FormatNumber(r.residual_white_noise, 3) + " N m): it is mostly smooth in time, i.e. the " +
          (r.from_difference ? std::string("difference holds more than the payload (tracking, friction)")
                             : std::string("model (the URDF's links or the effects) is wrong, not (only) the payload")) +
-         ", or the torques were low-passed before logging. The values and their std above carry that error; " +
+         ", or the torques were low-passed before logging. The values above are off by that error, by more than "
+         "their std can show (the error is alike in every part of the log); " +
          (r.from_difference ? std::string("check the pairing and the runs")
                             : std::string("record the same trajectory without the payload and fit the difference "
                                           "(payload --baseline)")) +
