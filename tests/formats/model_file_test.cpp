@@ -228,7 +228,8 @@ TEST(ModelFile, RecordedPriorsAreReadStrictly) {
        "iyy=\"1\" izz=\"5\" ixy=\"0\" iyz=\"0\" ixz=\"0\"/></inertial></prior></inertial_priors>",
        "not physically consistent"},
   };
-  for (const auto& [priors, expected] : cases) {
+  for (const auto& [priors_text, expected] : cases) {
+    const std::string priors = priors_text;  // a structured binding cannot be captured in C++17 (clang refuses)
     const std::string message = ErrorOf([&] { ParseUrdf(with(priors), "bad.urdf"); });
     EXPECT_NE(message.find("bad.urdf: <inertial_priors>"), std::string::npos) << message;
     EXPECT_NE(message.find(expected), std::string::npos) << priors << " -> " << message;
