@@ -23,6 +23,12 @@ std::string Lower(std::string s) {
 
 std::string Extension(const std::string& source) { return Lower(std::filesystem::path(source).extension().string()); }
 
+// A mesh refused by its name, read or not.
+MeshError UnknownFormat(const std::string& source) {
+  return MeshError(source + ": a mesh format this reader does not know ('" + Extension(source) +
+                   "'; it reads .stl and .obj, not COLLADA's .dae)");
+}
+
 float LittleEndianFloat(const unsigned char* p) {
   const std::uint32_t bits = std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
                              std::uint32_t{p[3]} << 24;
@@ -140,8 +146,7 @@ std::vector<Vector3> ParseMeshVertices(std::string_view bytes, const std::string
   } else if (ext == ".obj") {
     vertices = KeywordVertices(bytes, "v", source);
   } else {
-    throw MeshError(source + ": a mesh format this reader does not know ('" + ext +
-                    "'; it reads .stl and .obj, not COLLADA's .dae)");
+    throw UnknownFormat(source);
   }
   if (vertices.empty()) throw MeshError(source + ": no vertex");
   return vertices;
@@ -149,7 +154,7 @@ std::vector<Vector3> ParseMeshVertices(std::string_view bytes, const std::string
 
 std::vector<Vector3> ReadMeshVertices(const std::string& path) {
   const std::string ext = Extension(path);
-  if (ext != ".stl" && ext != ".obj") ParseMeshVertices("", path);  // refused by its name, unread
+  if (ext != ".stl" && ext != ".obj") throw UnknownFormat(path);  // refused before a byte is read
   std::string bytes;
   try {
     bytes = ReadInputFile(path, "mesh", kMaxMeshBytes);

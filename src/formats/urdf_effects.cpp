@@ -311,6 +311,19 @@ std::vector<ModelEffect> OrderModelEffects(const std::vector<ModelEffect>& liste
   return effects;
 }
 
+// One of our extension elements of `robot` (<inertial_effects>, <inertial_priors>), about to be
+// written: every earlier `name` removed, then, unless there is nothing to write (`empty`), a new
+// one (version 1, opening with `comment`) returned for the caller to fill and insert.
+tinyxml2::XMLElement* FreshExtension(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, const char* name,
+                                     bool empty, const char* comment) {
+  while (tinyxml2::XMLElement* old = robot->FirstChildElement(name)) robot->DeleteChild(old);
+  if (empty) return nullptr;
+  tinyxml2::XMLElement* element = doc.NewElement(name);
+  element->SetAttribute("version", 1);
+  element->InsertEndChild(doc.NewComment(comment));
+  return element;
+}
+
 }  // namespace
 
 std::vector<ModelEffect> ReadModelEffects(const tinyxml2::XMLElement& robot, const std::string& source,
@@ -362,13 +375,11 @@ void WriteModelEffects(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot, 
     element->SetAttribute("damping", FormatNumber(v.first, kRoundTripDigits).c_str());
     element->SetAttribute("friction", FormatNumber(v.second, kRoundTripDigits).c_str());
   }
-  while (tinyxml2::XMLElement* old = robot->FirstChildElement(kEffectsElement)) robot->DeleteChild(old);
-  if (effects.empty()) return;
-  tinyxml2::XMLElement* ext = doc.NewElement(kEffectsElement);
-  ext->SetAttribute("version", 1);
-  ext->InsertEndChild(doc.NewComment(
+  tinyxml2::XMLElement* ext = FreshExtension(
+      doc, robot, kEffectsElement, effects.empty(),
       " inertial's model effects (README: the model file). Viscous and Coulomb coefficients are the joints' "
-      "<dynamics damping friction>; other URDF readers ignore this element. "));
+      "<dynamics damping friction>; other URDF readers ignore this element. ");
+  if (ext == nullptr) return;
   for (const ModelEffect& m : effects) {
     tinyxml2::XMLElement* e = doc.NewElement(std::string(ToString(m.spec.kind)).c_str());
     e->SetAttribute(m.spec.kind == EffectKind::kPayload ? "link" : "joint", m.spec.target.c_str());
@@ -446,14 +457,12 @@ std::map<std::string, InertialParams> ReadRecordedPriors(const tinyxml2::XMLElem
 
 void WriteRecordedPriors(tinyxml2::XMLDocument& doc, tinyxml2::XMLElement* robot,
                          const std::map<std::string, InertialParams>& priors, const std::string& path) {
-  while (tinyxml2::XMLElement* old = robot->FirstChildElement(kPriorsElement)) robot->DeleteChild(old);
-  if (priors.empty()) return;
-  tinyxml2::XMLElement* element = doc.NewElement(kPriorsElement);
-  element->SetAttribute("version", 1);
-  element->InsertEndChild(doc.NewComment(
+  tinyxml2::XMLElement* element = FreshExtension(
+      doc, robot, kPriorsElement, priors.empty(),
       " inertial: each link's inertia in the URDF the values were identified from (the fit's prior), in the "
       "link's frame. `inertial validate` and `inertial check` judge the links' plausibility against it (the mass "
-      "ratio, the region built from it); other URDF readers ignore this element. "));
+      "ratio, the region built from it); other URDF readers ignore this element. ");
+  if (element == nullptr) return;
   for (const auto& [link, pi] : priors) {
     if (!pi.AllFinite()) throw UrdfError(path + ": the prior of link '" + link + "' is not finite");
     tinyxml2::XMLElement* e = doc.NewElement("prior");
