@@ -11,6 +11,9 @@ namespace inertial {
 namespace {
 
 using testing::Rng;
+using examples::Arm7;
+using examples::BundledRobot;
+using examples::Leg3;
 
 // A smooth excitation: q_i(t) = a_i sin(w_i t + phi_i) + b_i, with its exact derivatives.
 struct Sines {
