@@ -35,6 +35,7 @@ class OnlineEstimator {
     s.q = VectorOf(q, n, "q", false);  // NaN: refused by the pipeline, counted, as in inertiald
     s.qd = VectorOf(qd, n, "qd", false);
     s.has_qdd = qdd.has_value();
+    s.qdd_measured = qdd.has_value();
     s.qdd = qdd ? VectorOf(*qdd, n, "qdd", false) : Eigen::VectorXd::Zero(n);
     s.tau = VectorOf(tau, n, "tau", false);
     const SamplePipeline::Outcome outcome = pipeline_.Process(&sample_);

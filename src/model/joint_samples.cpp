@@ -9,6 +9,7 @@ void CopySample(const JointSamples& log, int i, JointSample* out) {
   out->qdd = log.qdd.row(i).transpose();
   out->tau = log.tau.row(i).transpose();
   out->has_qdd = true;
+  out->qdd_measured = true;
 }
 
 }  // namespace inertial

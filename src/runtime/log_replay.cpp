@@ -194,13 +194,16 @@ ReplayResult ReplayLog(const std::string& path, OnlineJointEstimator* estimator,
     replayer.Finish(&result, decoder.counters());
   } else if (EndsWith(path, ".csv")) {
     // A file's samples are decoded already; the CSV source counts each row as received and given.
-    const JointSamples log = ReadJointLog(path, model.dof_names(), options.csv);
+    JointCsvReport read;
+    const JointSamples log = ReadJointLog(path, model.dof_names(), options.csv, &read);
     SamplePipeline pipeline(estimator, options.format.accel_cutoff_hz, options.residual_window_s);
     pipeline.SetLogGains(options.log_gains);
     Replayer replayer(&pipeline, options, on_sample);
     SampleCounters rows;
     for (int i = 0; i < log.size(); ++i) {
       CopySample(log, i, &sample.joint);
+      // qdd derived from q when the file had none: the estimator fits momentum rows instead.
+      sample.joint.qdd_measured = !read.missing_qdd;
       ++result.events;
       ++rows.received;
       ++rows.accepted;

@@ -18,6 +18,8 @@ SamplePipeline::SamplePipeline(OnlineJointEstimator* estimator, double accel_cut
   if (!(residual_window_s > 0) || !(accel_cutoff_hz > 0)) {
     throw std::invalid_argument("sample pipeline: the residual window and the acceleration cutoff must be positive");
   }
+  // Samples without measured qdd are fitted by momentum rows filtered at the stream's corner.
+  estimator->SetMomentumCutoff(accel_cutoff_hz);
 }
 
 SamplePipeline::SamplePipeline(OnlineBodyEstimator* estimator, double residual_window_s)
@@ -64,6 +66,9 @@ SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
     sample->joint.tau.array() /= log_gains_.array();  // the log's unit to N m (in place: no allocation)
   }
   out.rejection = preprocessor_.Process(&sample->joint);
+  if (out.rejection == Rejection::kPriming && !sample->joint.qdd_measured) {
+    robot_->Prime(sample->joint);  // the estimator's momentum rows start from the same sample
+  }
   if (out.rejection != Rejection::kNone) {
     counters_.Reject(out.rejection);
     return out;

@@ -31,6 +31,7 @@ Rejection StreamPreprocessor::Process(JointSample* s, std::string* why) {
     return Rejection::kNonFinite;
   }
   s->has_qdd = true;
+  s->qdd_measured = false;  // derived: the estimator uses rows without qdd (momentum_rows.hpp)
   return Rejection::kNone;
 }
 

@@ -96,6 +96,7 @@ bool CanJointAssembler::Feed(const CanFrame& f, JointSample* s, std::string* why
   last_tick_t_ = s->t;
   s->qdd.setZero();
   s->has_qdd = false;
+  s->qdd_measured = false;
   ++counters_.accepted;
   return true;
 }

@@ -136,6 +136,7 @@ Rejection JointMessageDecoder::Decode(const void* data, std::size_t size, std::i
     return Rejection::kNonFinite;
   }
   s->has_qdd = has_qdd;
+  s->qdd_measured = has_qdd;
   if (!has_qdd) s->qdd.setZero();
   return Rejection::kNone;
 }

@@ -65,9 +65,9 @@ TEST(MomentumFeatures, TheirTimeDerivativeIsTheInverseDynamics) {
     const double dt = 1e-4;
     for (int k = 0; k < 20; ++k) {
       const double t = rng.Uniform(0.0, 10.0);
-      momentum.Compute(s.q(t), s.qd(t), P, H);
-      momentum.Compute(s.q(t + dt), s.qd(t + dt), P_plus, H_unused);
-      momentum.Compute(s.q(t - dt), s.qd(t - dt), P_minus, H_unused);
+      momentum.Compute(model, s.q(t), s.qd(t), P, H);
+      momentum.Compute(model, s.q(t + dt), s.qd(t + dt), P_plus, H_unused);
+      momentum.Compute(model, s.q(t - dt), s.qd(t - dt), P_minus, H_unused);
       const Eigen::VectorXd from_momentum = (P_plus - P_minus) * w / (2 * dt) + H * w;
       const Eigen::VectorXd tau = model.InverseDynamics(x, s.q(t), s.qd(t), s.qdd(t));
       // The time difference's error (dt^2 / 6 times the third derivative of p, about 1e-8 N m
@@ -89,7 +89,7 @@ TEST(MomentumFeatures, AtRestPIsZeroAndHIsTheStaticFeatures) {
   MomentumFeatures momentum(model);
   Eigen::MatrixXd P(n, model.num_features()), H(n, model.num_features()), A(n, model.num_features());
   const Eigen::VectorXd q = Eigen::Vector3d(0.2, -0.7, 1.3);
-  momentum.Compute(q, Eigen::VectorXd::Zero(n), P, H);
+  momentum.Compute(model, q, Eigen::VectorXd::Zero(n), P, H);
   model.Features(q, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), A);
   EXPECT_EQ(P.cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((H - A).cwiseAbs().maxCoeff(), 0.0);

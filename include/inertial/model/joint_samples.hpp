@@ -27,6 +27,11 @@ struct JointSample {
   /// False: the source did not measure qdd (it holds zeros); the preprocessing stage
   /// (stream_preprocessor.hpp) derives it before the estimator sees the sample.
   bool has_qdd = true;
+  /// False: qdd was not measured but derived (by the preprocessing stage, or from q when a CSV
+  /// log was read) or is absent. The online estimator then fits rows that need no qdd
+  /// (momentum_rows.hpp) and never the derived qdd, which lags or smooths; consumers that want an
+  /// acceleration (the stream diagnosis) still find the derived one in qdd.
+  bool qdd_measured = true;
 };
 
 /// Sample i of a joint log (joint_samples.hpp) as a JointSample; reuses *out's memory when sizes

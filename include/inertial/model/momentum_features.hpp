@@ -29,23 +29,23 @@ namespace inertial {
 /// [rad or m] the fastest joint's displacement in the central difference of P along qd.
 inline constexpr double kDirectionalStep = 1e-5;
 
-/// P and H of the file comment, allocation-free per sample after construction.
+/// P and H of the file comment, allocation-free per sample after construction. Holds workspace
+/// sized for one model, not the model itself (so its owner may move): every call takes the model.
 class MomentumFeatures {
  public:
   explicit MomentumFeatures(const RobotDynamics& model);
 
   /// P(q, qd) and H(q, qd) into P and H (num_dofs x num_features each). No allocation, no
   /// exception. Preconditions (debug-asserted): sizes.
-  void Compute(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::Ref<Eigen::MatrixXd> P,
-               Eigen::Ref<Eigen::MatrixXd> H);
-
-  const RobotDynamics& model() const { return *model_; }
+  /// Preconditions (debug-asserted): model is the one (or a copy of the one) constructed with.
+  void Compute(const RobotDynamics& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+               Eigen::Ref<Eigen::MatrixXd> P, Eigen::Ref<Eigen::MatrixXd> H);
 
  private:
   // P(q, v) into out (A(q, 0, v) - A(q, 0, 0)), with scratch_ as the second term.
-  void MomentumAt(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::Ref<Eigen::MatrixXd> out);
+  void MomentumAt(const RobotDynamics& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                  Eigen::Ref<Eigen::MatrixXd> out);
 
-  const RobotDynamics* model_;
   TreeWorkspace workspace_;
   Eigen::VectorXd zero_, q_shifted_;
   Eigen::MatrixXd scratch_, plus_, minus_;

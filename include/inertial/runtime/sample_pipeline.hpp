@@ -2,8 +2,10 @@
 /// The estimating half of the one sample pipeline, source -> decode (sample_decoder.hpp) ->
 /// preprocess -> estimator -> sinks, shared by inertiald (a thread pops the queue into it) and
 /// replay (a loop feeds it), for a robot and for a single body alike:
-/// - preprocess (robot mode): stream_preprocessor.hpp (time order, qdd derived where not measured);
-/// - estimator: OnlineJointEstimator or OnlineBodyEstimator, one update per sample;
+/// - preprocess (robot mode): stream_preprocessor.hpp (time order, qdd derived where not measured,
+///   for the consumers that want an acceleration);
+/// - estimator: OnlineJointEstimator or OnlineBodyEstimator, one update per sample; where qdd was
+///   not measured the robot's estimator fits momentum rows (momentum_rows.hpp), not the derived qdd;
 /// - accounting: SampleCounters (rejection.hpp) of every outcome, and the residual window (RMS per
 ///   channel over windows of residual_window_s of sample time, of accepted samples: the residual
 ///   of the estimate before the sample, i.e. its prediction error);
@@ -27,7 +29,8 @@ namespace inertial {
 class SamplePipeline {
  public:
   /// A robot: samples are preprocessed (qdd low-passed at accel_cutoff_hz where not measured) and
-  /// given to *estimator, which must outlive the pipeline. @throws std::invalid_argument if
+  /// given to *estimator, which must outlive the pipeline; its momentum rows are filtered at
+  /// accel_cutoff_hz too (OnlineJointEstimator::SetMomentumCutoff). @throws std::invalid_argument if
   /// residual_window_s or accel_cutoff_hz is not positive.
   SamplePipeline(OnlineJointEstimator* estimator, double accel_cutoff_hz, double residual_window_s);
   /// A single body: samples go to *estimator as they are.

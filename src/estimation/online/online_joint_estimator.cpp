@@ -72,7 +72,7 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
 
 OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0,
                                            const OnlineEstimatorOptions& options)
-    : model_(std::move(model)), kind_(options.kind) {
+    : model_(std::move(model)), kind_(options.kind), momentum_(model_, options.momentum_cutoff_hz) {
   if (options.kind == EstimatorKind::kGaussNewton) {
     auto fit = std::make_unique<OnlineFit>(model_, x0, options.fit);
     fit_ = fit.get();
@@ -83,6 +83,7 @@ OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::Vec
   workspace_ = model_.MakeWorkspace();
   A_.resize(model_.num_dofs(), model_.num_features());
   w_.resize(model_.num_features());
+  y_.resize(model_.num_dofs());
   estimator_->Coefficients(w_);
   tau_hat_ = Eigen::VectorXd::Zero(model_.num_dofs());
   residual_ = Eigen::VectorXd::Zero(model_.num_dofs());
@@ -91,22 +92,52 @@ OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::Vec
 UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   const int n = model_.num_dofs();
   UpdateStatus status = UpdateStatus::kAccepted;
-  if (s.q.size() != n || s.qd.size() != n || s.qdd.size() != n || s.tau.size() != n) {
+  const bool momentum = !s.qdd_measured;
+  if (s.q.size() != n || s.qd.size() != n || (!momentum && s.qdd.size() != n) || s.tau.size() != n) {
     status = UpdateStatus::kWrongSize;
-  } else if (!s.q.allFinite() || !s.qd.allFinite() || !s.qdd.allFinite()) {
+  } else if (!s.q.allFinite() || !s.qd.allFinite() || (!momentum && !s.qdd.allFinite()) || !std::isfinite(s.t)) {
     status = UpdateStatus::kNonFinite;  // the features of a non-finite state would be garbage
+  } else if (momentum && momentum_.primed() && !(s.t > momentum_.last_time())) {
+    status = UpdateStatus::kOutOfOrder;  // the filter differences in time
   }
   if (status != UpdateStatus::kAccepted) {
     estimator_->CountSample(status);
     return status;
   }
-  model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
+  if (momentum) {
+    // A non-finite torque reaches the estimator's own check below through y; the filter would
+    // carry it on, so it is not fed to the filter.
+    if (!s.tau.allFinite()) {
+      estimator_->CountSample(UpdateStatus::kNonFinite);
+      return UpdateStatus::kNonFinite;
+    }
+    if (!momentum_.Update(model_, s.t, s.q, s.qd, s.tau, A_, y_)) {
+      estimator_->CountSample(UpdateStatus::kBuffered);
+      return UpdateStatus::kBuffered;
+    }
+  } else {
+    momentum_.Reset();  // rows without qdd start again after a sample with it
+    model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
+    y_ = s.tau;
+  }
   tau_hat_.noalias() = A_ * w_;
-  residual_ = s.tau - tau_hat_;
-  status = estimator_->Update(s.t, A_, s.tau);
+  residual_ = y_ - tau_hat_;
+  status = estimator_->Update(s.t, A_, y_);
   if (status == UpdateStatus::kAccepted) estimator_->Coefficients(w_);
   return status;
 }
+
+void OnlineJointEstimator::Prime(const JointSample& s) {
+  const int n = model_.num_dofs();
+  if (s.q.size() != n || s.qd.size() != n || s.tau.size() != n || !s.q.allFinite() || !s.qd.allFinite() ||
+      !s.tau.allFinite() || !std::isfinite(s.t)) {
+    return;
+  }
+  momentum_.Reset();
+  momentum_.Update(model_, s.t, s.q, s.qd, s.tau, A_, y_);
+}
+
+void OnlineJointEstimator::SetMomentumCutoff(double cutoff_hz) { momentum_ = MomentumRows(model_, cutoff_hz); }
 
 bool OnlineJointEstimator::Solve(bool from_start) {
   if (fit_ == nullptr || !fit_->Solve(from_start)) return false;

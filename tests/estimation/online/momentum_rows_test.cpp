@@ -37,7 +37,7 @@ RowErrors EquationErrors(const RobotDynamics& model, const Eigen::VectorXd& x, d
     phi[i] = rng.Uniform(-3, 3);
   }
   const Eigen::VectorXd coefficients = model.Coefficients(x);
-  MomentumRows rows(model, cutoff_hz);
+  MomentumRows rows(model, cutoff_hz, MomentumRows::Corner::kFixed);
   CausalAcceleration differentiator(n, cutoff_hz);
   Eigen::MatrixXd A(n, model.num_features()), A_causal(n, model.num_features());
   Eigen::VectorXd y(n), qdd_causal(n);
@@ -50,7 +50,7 @@ RowErrors EquationErrors(const RobotDynamics& model, const Eigen::VectorXd& x, d
     const Eigen::VectorXd qdd = (-a.array() * w.array().square() * (w.array() * t + phi.array()).sin()).matrix();
     const Eigen::VectorXd tau = model.InverseDynamics(x, q, qd, qdd);
     tau_scale = std::max(tau_scale, tau.cwiseAbs().maxCoeff());
-    const bool have_row = rows.Update(t, q, qd, tau, A, y);
+    const bool have_row = rows.Update(model, t, q, qd, tau, A, y);
     const bool have_qdd = differentiator.Update(t, qd, &qdd_causal);
     if (t < 1.0) continue;
     EXPECT_TRUE(have_row && have_qdd);
@@ -100,13 +100,13 @@ TEST(MomentumRows, FitWithoutAccelerationPredictsAsTheExactOne) {
   Eigen::MatrixXd A(n, f);
   Eigen::VectorXd y(n);
   for (const double cutoff : {2.0, 5.0, 20.0}) {
-    MomentumRows rows(truth, cutoff);
+    MomentumRows rows(truth, cutoff, MomentumRows::Corner::kFixed);
     int m = 0;
     for (int k = 0; k < train.size(); ++k) {
       truth.Features(train.q.row(k).transpose(), train.qd.row(k).transpose(), train.qdd.row(k).transpose(), A);
       A_exact.middleRows(3 * k, 3) = A;
       y_exact.segment(3 * k, 3) = train.tau.row(k).transpose();
-      if (rows.Update(train.t[k], train.q.row(k).transpose(), train.qd.row(k).transpose(), train.tau.row(k).transpose(), A, y)) {
+      if (rows.Update(truth, train.t[k], train.q.row(k).transpose(), train.qd.row(k).transpose(), train.tau.row(k).transpose(), A, y)) {
         A_momentum.middleRows(3 * m, 3) = A;
         y_momentum.segment(3 * m, 3) = y;
         ++m;
@@ -134,16 +134,21 @@ TEST(MomentumRows, FitWithoutAccelerationPredictsAsTheExactOne) {
 
 TEST(MomentumRows, FirstSamplePrimesAndResetForgets) {
   const RobotDynamics model = Leg3().Dynamics("viscous");
-  MomentumRows rows(model, 5.0);
+  MomentumRows rows(model, 5.0, MomentumRows::Corner::kFixed);
   Eigen::MatrixXd A(3, model.num_features());
   Eigen::VectorXd y(3);
   const Eigen::VectorXd q = Eigen::Vector3d(0.1, 0.2, 0.3), qd = Eigen::Vector3d(0.5, -0.2, 0.1);
   const Eigen::VectorXd tau = Eigen::Vector3d(1, 2, 3);
-  EXPECT_FALSE(rows.Update(0.0, q, qd, tau, A, y));
-  EXPECT_TRUE(rows.Update(0.01, q, qd, tau, A, y));
+  EXPECT_FALSE(rows.Update(model, 0.0, q, qd, tau, A, y));
+  EXPECT_TRUE(rows.Update(model, 0.01, q, qd, tau, A, y));
   rows.Reset();
   EXPECT_FALSE(rows.primed());
-  EXPECT_FALSE(rows.Update(0.02, q, qd, tau, A, y));
+  EXPECT_FALSE(rows.Update(model, 0.02, q, qd, tau, A, y));
+  // A step longer than 1 / (2 f_c) = 0.1 s restarts the filters; one just under it does not.
+  EXPECT_TRUE(rows.Update(model, 0.119, q, qd, tau, A, y));
+  EXPECT_FALSE(rows.Update(model, 0.2191, q, qd, tau, A, y));
+  EXPECT_TRUE(rows.primed());
+  EXPECT_TRUE(rows.Update(model, 0.23, q, qd, tau, A, y));
   EXPECT_THROW(MomentumRows(model, 0.0), std::invalid_argument);
   EXPECT_THROW(MomentumRows(model, std::nan("")), std::invalid_argument);
 }

@@ -2,7 +2,11 @@
 /// The online estimator of a robot from joint-space samples (q, qd, qdd, tau of every DOF, in the
 /// model's DOF order): per sample, the features A(q, qd, qdd) of RobotDynamics (joint-torque
 /// regressor of every link and rotor, effect features) computed without allocation, then one
-/// update of the chosen estimator:
+/// update of the chosen estimator. A sample whose qdd was not measured (JointSample::qdd_measured
+/// false: LCM or CAN streams without accelerations, CSV logs without qdd columns) gives instead the
+/// filtered momentum row of momentum_rows.hpp (F[tau] = F[dP/dt + H] w, no qdd, no lag), which
+/// feeds the same statistics; its prediction and residual are then those of the filtered torque.
+/// The estimators:
 ///   - gauss_newton (the default): the batch objective's sufficient statistics, re-solved by
 ///     Gauss-Newton / Levenberg-Marquardt off the tick (online_fit.hpp): the estimate is identify's
 ///     fit of the samples so far; Solve() runs the solve (when SolveDue(), or from another thread
@@ -17,6 +21,7 @@
 
 #include "inertial/estimation/online/gradient_estimator.hpp"
 #include "inertial/estimation/online/linear_rls.hpp"
+#include "inertial/estimation/online/momentum_rows.hpp"
 #include "inertial/estimation/online/online_fit.hpp"
 #include "inertial/estimation/online/recursive_gauss_newton.hpp"
 #include "inertial/model/joint_samples.hpp"
@@ -42,6 +47,9 @@ struct OnlineEstimatorOptions {
   KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
   OnlineFitOptions fit;            ///< gauss_newton of a robot (measurement_sigma, theta_std, effect_std unused)
   GradientOptions gradient;        ///< measurement_sigma likewise
+  /// The corner of the momentum rows' filter for samples without measured qdd (momentum_rows.hpp);
+  /// SamplePipeline sets it to the stream's accel_cutoff_hz.
+  double momentum_cutoff_hz = 20.0;
 };
 
 /// Makes the estimator of `kind` for a model with `layout`, m measurements, starting at x0 (for
@@ -58,7 +66,18 @@ class OnlineJointEstimator {
   /// @throws std::invalid_argument for a wrong-size x0 or bad options.
   OnlineJointEstimator(RobotDynamics model, const Eigen::VectorXd& x0, const OnlineEstimatorOptions& options = {});
 
+  /// One sample. With qdd measured: the row A(q, qd, qdd), y = tau. Without: the filtered momentum
+  /// row; the first such sample (and the first after a sample with qdd, or after a gap longer
+  /// than 1 / (2 f_c)) only primes the filter and returns kBuffered (it enters the next row).
   UpdateStatus Update(const JointSample& sample);
+  /// Primes the momentum rows' filter with a sample without measured qdd that is not to be
+  /// counted (the preprocessing stage's priming sample, refused there): the next sample gives a
+  /// row. Nothing else changes. Ignores a sample of wrong size or with a non-finite value.
+  void Prime(const JointSample& sample);
+  /// Replaces the momentum rows' filter corner (allocates: not per tick); the filter restarts.
+  /// @throws std::invalid_argument if cutoff_hz is not positive and finite.
+  void SetMomentumCutoff(double cutoff_hz);
+  double momentum_cutoff_hz() const { return momentum_.cutoff_hz(); }
   /// gauss_newton: the statistics have grown enough since the last solve (OnlineFit::solve_due);
   /// false for the other estimators, which solve within Update().
   bool SolveDue() const { return fit_ != nullptr && fit_->solve_due(); }
@@ -88,6 +107,7 @@ class OnlineJointEstimator {
   InertialParams Body(int e) const;
   /// Torques predicted by the current estimate for the last sample given, and its residual
   /// (measured - predicted); zero before the first.
+  /// Without measured qdd, both are of the filtered torque F[tau] (momentum_rows.hpp).
   const Eigen::VectorXd& predicted() const { return tau_hat_; }
   const Eigen::VectorXd& residual() const { return residual_; }
 
@@ -97,8 +117,9 @@ class OnlineJointEstimator {
   std::unique_ptr<RecursiveEstimator> estimator_;
   OnlineFit* fit_ = nullptr;  ///< estimator_ when it is one
   TreeWorkspace workspace_;
+  MomentumRows momentum_;
   Eigen::MatrixXd A_;
-  Eigen::VectorXd w_, tau_hat_, residual_;
+  Eigen::VectorXd w_, y_, tau_hat_, residual_;
 };
 
 }  // namespace inertial
