@@ -707,10 +707,12 @@ TEST(EstimationDaemon, MotorsOnACanBus) {
   StreamPreprocessor preprocess(model.num_dofs(), can.accel_cutoff_hz);
   JointSample tick;
   for (const CanFrame& f : frames) {
-    if (assembler.Feed(f, &tick) && preprocess.Process(&tick) == Rejection::kNone) {
-      direct.Update(tick);
-      if (direct.SolveDue()) direct.Solve();
-    }
+    if (!assembler.Feed(f, &tick)) continue;
+    const Rejection r = preprocess.Process(&tick);
+    if (r == Rejection::kPriming) direct.Prime(tick);  // as SamplePipeline: the momentum rows start there too
+    if (r != Rejection::kNone) continue;
+    direct.Update(tick);
+    if (direct.SolveDue()) direct.Solve();
   }
   direct.Solve(true);
   // The daemon's solves run on their own thread: the same fit, the same torques (see above).

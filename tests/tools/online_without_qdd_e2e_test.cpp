@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "simulated_robot.hpp"
 
 namespace inertial {
 namespace {
@@ -101,6 +102,7 @@ TEST(OnlineWithoutQdd, SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd) 
                                path("test.csv"));
     const double csv = HeldOut(
         Fit({"replay", "--model", model, "--log", path("train-no-qdd.csv")}, c.effects, path("csv.urdf")), path("test.csv"));
+    std::cerr << c.robot << ": batch on exact qdd " << batch << ", LCM without qdd " << lcm << ", CSV without qdd " << csv << "\n";
     EXPECT_LE(lcm, 1.1 * batch) << c.robot << ": LCM without qdd " << lcm << ", batch on exact qdd " << batch;
     EXPECT_LE(csv, 1.1 * batch) << c.robot << ": CSV without qdd " << csv << ", batch on exact qdd " << batch;
     if (c.robot == "leg3.urdf") {
@@ -109,6 +111,7 @@ TEST(OnlineWithoutQdd, SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd) 
                                       path("motors.yaml")},
                                      c.effects, path("can.urdf")),
                                  path("test.csv"));
+      std::cerr << "candump " << can << "\n";
       EXPECT_LE(can, 1.1 * batch) << "candump (12-bit velocities) " << can << ", batch on exact qdd " << batch;
     }
   }
@@ -132,6 +135,7 @@ TEST(OnlineWithoutQdd, KukaLwr4WithoutItsAccelerationColumns) {
   const double online =
       HeldOut(Fit({"replay", "--model", model, "--log", train}, effects, (dir / "online.urdf").string()),
               data + "/measurements_2.csv");
+  std::cerr << "KUKA run 1 -> run 2: batch on exact qdd " << batch << ", online without qdd " << online << "\n";
   EXPECT_LE(online, 1.1 * batch) << "online without qdd " << online << ", batch on exact qdd " << batch;
   fs::remove_all(dir);
 }

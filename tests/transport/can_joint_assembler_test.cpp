@@ -6,7 +6,6 @@
 
 #include <iostream>
 
-#include "inertial/signal/causal_acceleration.hpp"
 #include "inertial/estimation/batch/joint_identification.hpp"
 #include "inertial/signal/stream_preprocessor.hpp"
 #include "inertial/formats/model_file.hpp"
@@ -76,14 +75,13 @@ TEST(CanJointAssembler, SimulatedLegThroughTheMotorsIntoTheEstimator) {
   OnlineJointEstimator via_can(model, Eigen::VectorXd::Zero(model.num_parameters()), o), exact(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
   JointSample s, e;
   StreamPreprocessor preprocess(3, a.config().accel_cutoff_hz);
-  CausalAcceleration reference_acceleration(3, a.config().accel_cutoff_hz);
   for (int i = 0; i < log.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
       MotorReading r{log.t[i] + 1e-4 * k, log.q(i, k), log.qd(i, k), log.tau(i, k)};
-      if (a.Feed(EncodeMotorFrame(a.config().motors[static_cast<size_t>(k)], r), &s) &&
-          preprocess.Process(&s) == Rejection::kNone) {
-        via_can.Update(s);
-      }
+      if (!a.Feed(EncodeMotorFrame(a.config().motors[static_cast<size_t>(k)], r), &s)) continue;
+      const Rejection why = preprocess.Process(&s);
+      if (why == Rejection::kPriming) via_can.Prime(s);
+      if (why == Rejection::kNone) via_can.Update(s);
     }
     if (i % 100 == 0) {
       CanFrame junk;
@@ -91,22 +89,25 @@ TEST(CanJointAssembler, SimulatedLegThroughTheMotorsIntoTheEstimator) {
       junk.length = 2;
       a.Feed(junk, &s);
     }
-    // The reference: exact samples, with the same causal accelerations the CAN path must use, so
-    // that the comparison isolates the protocol's quantization.
+    // The reference: exact samples without their qdd, in the same rows the CAN path must use (the
+    // filtered momentum rows), so that the comparison isolates the protocol's quantization.
     CopySample(log, i, &e);
-    if (reference_acceleration.Update(e.t + 2e-4, e.qd, &e.qdd)) exact.Update(e);
+    e.t += 2e-4;
+    e.qdd_measured = false;
+    exact.Update(e);
   }
   EXPECT_EQ(a.counters().accepted, static_cast<std::uint64_t>(log.size()));
   EXPECT_EQ(a.counters()[Rejection::kUnknownId], static_cast<std::uint64_t>((log.size() + 99) / 100));
   const testing::SimulatedLogs test = testing::SimulateLogs(model, testing::TrueParameters(model, {0.0}, 2), 0.0, 5.0, 4, 500);
   const double e_can = CompareTorques(PredictJointTorques(model, via_can.estimator().parameters(), test.test_clean), test.test_clean.tau).total_rms;
   const double e_exact = CompareTorques(PredictJointTorques(model, exact.estimator().parameters(), test.test_clean), test.test_clean.tau).total_rms;
-  // The 12-bit velocity field quantizes qd in steps of 0.032 rad/s, and its difference over 2 ms
-  // makes the causal accelerations noisy: the CAN path converges less far than exact samples do
-  // (0.068 against 0.018 N m here) but still predicts clean torques below the 0.1 N m noise.
+  // The 12-bit velocity field quantizes qd in steps of 0.032 rad/s, and the momentum rows
+  // difference it: the CAN path predicts clean torques as well as exact samples in the same rows
+  // (0.00639 against 0.00637 N m here; with causally derived accelerations it was 0.068 against
+  // 0.018), far below the 0.1 N m noise. Bound: a quarter worse.
   std::cerr << "clean-torque RMS on another excitation: via CAN " << e_can << " N m, exact samples " << e_exact << "\n";
   EXPECT_LT(e_can, 0.1) << e_can << " vs " << e_exact;
-  EXPECT_LT(e_exact, e_can);
+  EXPECT_LT(e_can, 1.25 * e_exact);
 }
 
 }  // namespace

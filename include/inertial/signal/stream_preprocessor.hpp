@@ -3,7 +3,9 @@
 /// what the source did not measure is derived here and nowhere else, causally, so the daemon and a
 /// replay of its log compute the same numbers. A sample without qdd (has_qdd false: a message
 /// without accelerations, a CAN tick) gets qdd from qd by causal_acceleration.hpp; a sample with
-/// qdd passes unchanged. Time order is enforced first, because the filter differences in time.
+/// qdd passes unchanged. A derived qdd is for consumers that want an acceleration (the stream
+/// diagnosis): the sample's qdd_measured stays false, and the online estimator fits rows that need
+/// no qdd (momentum_rows.hpp) instead. Time order is enforced first, because the filter differences in time.
 /// Allocation-free after the first sample; never throws.
 ///
 /// Offline logs are differentiated as a whole instead (Savitzky-Golay, log_differentiation.hpp).
