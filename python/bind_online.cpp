@@ -174,14 +174,14 @@ void BindOnline(py::module_& m) {
   py::class_<OnlineEstimator>(
       m, "OnlineEstimator",
       "The online estimator of `inertiald` and `replay`, sample by sample: each update goes through the same "
-      "pipeline (time order, qdd derived by the causal filter where not given, the glitch gate) into the estimator; "
+      "pipeline (time order, where qdd is not given the estimator fits filtered momentum rows, which need none, the glitch gate) into the estimator; "
       "gauss_newton (default) keeps identify's objective (eq. 14) and re-solves it when due, so that after a log it "
       "equals the batch fit; also ekf, gradient, linear_rls.")
       .def(py::init<const Robot&, const std::string&, double, double>(), py::arg("robot"),
            py::arg("estimator") = "gauss_newton", py::arg("accel_cutoff_hz") = 20.0, py::arg("residual_window_s") = 1.0)
       .def("update", &OnlineEstimator::Update, py::arg("t"), py::arg("q"), py::arg("qd"), py::arg("qdd") = py::none(),
            py::arg("tau"),
-           "One sample: t [s], q, qd (and qdd, else derived) and tau [N m or N] per joint. Returns what became of it: "
+           "One sample: t [s], q, qd (and qdd if measured; else rows without qdd are fitted) and tau [N m or N] per joint. Returns what became of it: "
            "'accepted', 'held' (the gate waits to see), or the reason it was refused (e.g. 'out_of_order', "
            "'not_finite').")
       .def("estimate", &OnlineEstimator::Estimate,
