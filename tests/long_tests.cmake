@@ -61,6 +61,7 @@ set(inertial_long_tests
   tools.InertialdMulticast.RestartsFromCheckpointsAndMatchesReplayOfTheRecording
   tools.OnlineBatch.KukaLwr4RunOneToRunTwoWithinTenPercentOfTheBatchFit
   tools.OnlineBatch.SimulatedHiddenEffectsHeldOutWithinTenPercentOfTheBatchFit
+  tools.OnlineWithoutQdd.SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd
   tools.PayloadCli.AgainstTheModelAndFromTheDifference
   tools.ReplayDiagnose.CleanStreamsGetNoSuggestion
   tools.ValidateCli.InertialdWritesItsModelOnASignalAndAtExit
