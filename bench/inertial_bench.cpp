@@ -2,7 +2,9 @@
 //   Tick/<estimator>/<model>    a whole tick as a controller pays it: features of the sample
 //                               (joint-torque regressor and effects, or the body regressor) and
 //                               the estimator's update;
-//   Update/<estimator>/<model>  the estimator's update alone, features given.
+//   Update/<estimator>/<model>  the estimator's update alone, features given;
+//   TickWithoutQdd/gauss_newton/<model>  Tick/ on a stream whose qdd is not measured: the
+//                               filtered momentum rows (momentum_rows.hpp) instead of the features.
 // estimator: gauss_newton, gradient, linear_rls (the classical baseline: linear RLS on pi);
 // model: body (one body, 10 parameters, 6 measurements), leg3 (examples/leg3.urdf with three
 // geared rotors, viscous and Coulomb friction: 66 parameters, 3 measurements), arm7
@@ -105,9 +107,10 @@ void WarmUp(OnlineJointEstimator* est, std::vector<JointSample>* stream, long* k
   est->Solve();
 }
 
-void TickJoint(benchmark::State& state, EstimatorKind kind, const std::string& name) {
+void TickJoint(benchmark::State& state, EstimatorKind kind, const std::string& name, bool qdd_measured = true) {
   const RobotDynamics model = Robot(name);
   std::vector<JointSample> stream = JointStream(model);
+  for (JointSample& s : stream) s.qdd_measured = qdd_measured;
   OnlineJointEstimator est(model, Eigen::VectorXd::Constant(model.num_parameters(), 0.1), Options(kind));
   long k = 0;
   WarmUp(&est, &stream, &k);
@@ -326,6 +329,10 @@ void Register() {
     }
     for (const char* model : {"leg3", "arm7", "chain28"}) {
       const std::string m = model;
+      if (k == EstimatorKind::kGaussNewton) {
+        benchmark::RegisterBenchmark((std::string("TickWithoutQdd/") + kname + "/" + m).c_str(),
+                                     [k, m](benchmark::State& s) { TickJoint(s, k, m, false); });
+      }
       benchmark::RegisterBenchmark((std::string("TickDiagnosed/") + kname + "/" + m).c_str(),
                                    [k, m](benchmark::State& s) { TickDiagnosed(s, k, m); });
     }
