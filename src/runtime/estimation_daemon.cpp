@@ -479,7 +479,7 @@ void EstimationDaemon::Process(Sample* sample) {
       changes_seen_ = changes;
       diagnosis_->Reset();
     }
-    if (outcome.accepted()) diagnosis_->Observe(sample->joint, robot_->residual());
+    if (outcome.accepted()) diagnosis_->Observe(sample->joint, pipeline_->last_residual());
   }
   if (payload_events_ && outcome.rejection == Rejection::kNone) {
     if (const std::optional<PayloadEvent> event = payload_events_->Observe(*robot_, sample->joint)) {
