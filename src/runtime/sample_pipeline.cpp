@@ -20,8 +20,6 @@ SamplePipeline::SamplePipeline(OnlineJointEstimator* estimator, double accel_cut
   }
   // Samples without measured qdd are fitted by momentum rows filtered at the stream's corner.
   estimator->SetMomentumCutoff(accel_cutoff_hz);
-  workspace_ = estimator->model().MakeWorkspace();
-  features_.resize(estimator->model().num_dofs(), estimator->model().num_features());
 }
 
 SamplePipeline::SamplePipeline(OnlineBodyEstimator* estimator, double residual_window_s)
@@ -75,17 +73,8 @@ SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
     counters_.Reject(out.rejection);
     return out;
   }
-  const JointSample& j = sample->joint;
-  const bool derived = !j.qdd_measured && j.has_qdd && j.q.size() == residual_.size() &&
-                       j.qd.size() == residual_.size() && j.qdd.size() == residual_.size() &&
-                       j.tau.size() == residual_.size() && j.q.allFinite() && j.qd.allFinite() && j.qdd.allFinite();
-  if (derived) {  // the torque's own residual (last_residual), before the update as the estimator's
-    robot_->model().Features(j.q, j.qd, j.qdd, &workspace_, features_);
-    residual_ = j.tau;
-    residual_.noalias() -= features_ * robot_->coefficients();
-  }
-  out.status = robot_->Update(j);
-  if (!derived) residual_ = robot_->residual();
+  out.status = robot_->Update(sample->joint);
+  residual_ = robot_->stream_residual();  // the torque's, not the filtered rows' (online_joint_estimator.hpp)
   Account(out.status, sample->joint.t);
   Reconcile();  // a change resolves the held run at the tick
   return out;

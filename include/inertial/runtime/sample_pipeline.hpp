@@ -69,9 +69,9 @@ class SamplePipeline {
   double last_time() const { return last_t_; }
   /// The residual of the last sample given to the estimator (measured - predicted by the estimate
   /// before the sample, per channel). Where qdd was not measured, the estimator fits filtered
-  /// momentum rows, whose residual is of the filtered torque; this one is of the torque itself,
-  /// predicted with the preprocessing stage's derived qdd, as the diagnosis and the residual
-  /// channel expect (their features are of the sample, not filtered).
+  /// momentum rows, whose residual is of the filtered torque; this one is the estimator's
+  /// stream_residual(), of the torque low-passed as the derived qdd is, which the diagnosis and
+  /// the residual channel expect (their features are of the sample).
   const Eigen::VectorXd& last_residual() const { return residual_; }
 
   bool body_mode() const { return body_ != nullptr; }
@@ -89,8 +89,6 @@ class SamplePipeline {
 
   OnlineJointEstimator* robot_ = nullptr;
   OnlineBodyEstimator* body_ = nullptr;
-  TreeWorkspace workspace_;  ///< robot mode: the residual's features where qdd was derived
-  Eigen::MatrixXd features_;
   StreamPreprocessor preprocessor_;
   SampleCounters counters_;
   Eigen::VectorXd residual_, window_sum_, window_rms_;

@@ -23,9 +23,10 @@ MomentumRows::MomentumRows(const RobotDynamics& model, double cutoff_hz, Corner 
       P_last_(model.num_dofs(), model.num_features()),
       H_last_(model.num_dofs(), model.num_features()),
       filtered_dP_(model.num_dofs(), model.num_features()),
-      filtered_H_(model.num_dofs(), model.num_features()),
       tau_last_(model.num_dofs()),
-      filtered_tau_(model.num_dofs()) {
+      filtered_tau_(model.num_dofs()),
+      midpoint_row_(Eigen::MatrixXd::Zero(model.num_dofs(), model.num_features())),
+      midpoint_tau_(Eigen::VectorXd::Zero(model.num_dofs())) {
   if (!(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz)) {
     throw std::invalid_argument("momentum rows: the filter's cutoff must be a positive frequency, got " +
                                 std::to_string(cutoff_hz) + " Hz");
@@ -36,7 +37,6 @@ MomentumRows::MomentumRows(const RobotDynamics& model, double cutoff_hz, Corner 
 void MomentumRows::Reset() {
   primed_ = false;
   filtered_dP_.setZero();
-  filtered_H_.setZero();
   filtered_tau_.setZero();
 }
 
@@ -76,10 +76,12 @@ bool MomentumRows::Update(const RobotDynamics& model, double t, const Eigen::Vec
   INERTIAL_ASSERT(dt > 0.0);
   const double a = std::exp(-2.0 * M_PI * corner_hz_ * dt);
   const double b = 1.0 - a;
-  filtered_dP_ = a * filtered_dP_ + (b / dt) * (P_ - P_last_);
-  filtered_H_ = a * filtered_H_ + (0.5 * b) * (H_ + H_last_);
-  filtered_tau_ = a * filtered_tau_ + (0.5 * b) * (tau + tau_last_);
-  A = filtered_dP_ + filtered_H_;
+  midpoint_row_ = (P_ - P_last_) / dt + 0.5 * (H_ + H_last_);
+  midpoint_tau_ = 0.5 * (tau + tau_last_);
+  last_step_ = dt;
+  filtered_dP_ = a * filtered_dP_ + b * midpoint_row_;  // dP/dt and H in one state: F is linear
+  filtered_tau_ = a * filtered_tau_ + b * midpoint_tau_;
+  A = filtered_dP_;
   y = filtered_tau_;
   P_last_.swap(P_);
   H_last_.swap(H_);

@@ -84,6 +84,8 @@ OnlineJointEstimator::OnlineJointEstimator(RobotDynamics model, const Eigen::Vec
   A_.resize(model_.num_dofs(), model_.num_features());
   w_.resize(model_.num_features());
   y_.resize(model_.num_dofs());
+  stream_residual_ = Eigen::VectorXd::Zero(model_.num_dofs());
+  midpoint_residual_ = Eigen::VectorXd::Zero(model_.num_dofs());
   estimator_->Coefficients(w_);
   tau_hat_ = Eigen::VectorXd::Zero(model_.num_dofs());
   residual_ = Eigen::VectorXd::Zero(model_.num_dofs());
@@ -112,9 +114,14 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
       return UpdateStatus::kNonFinite;
     }
     if (!momentum_.Update(model_, s.t, s.q, s.qd, s.tau, A_, y_)) {
+      stream_residual_.setZero();  // the filters restart
       estimator_->CountSample(UpdateStatus::kBuffered);
       return UpdateStatus::kBuffered;
     }
+    midpoint_residual_ = momentum_.midpoint_torque();
+    midpoint_residual_.noalias() -= momentum_.midpoint_row() * w_;
+    const double g = std::exp(-2.0 * M_PI * momentum_.cutoff_hz() * momentum_.last_step());
+    stream_residual_ = g * stream_residual_ + (1.0 - g) * midpoint_residual_;
   } else {
     momentum_.Reset();  // rows without qdd start again after a sample with it
     model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
@@ -122,6 +129,7 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   }
   tau_hat_.noalias() = A_ * w_;
   residual_ = y_ - tau_hat_;
+  if (!momentum) stream_residual_ = residual_;
   status = estimator_->Update(s.t, A_, y_);
   if (status == UpdateStatus::kAccepted) estimator_->Coefficients(w_);
   return status;
@@ -134,6 +142,7 @@ void OnlineJointEstimator::Prime(const JointSample& s) {
     return;
   }
   momentum_.Reset();
+  stream_residual_.setZero();
   momentum_.Update(model_, s.t, s.q, s.qd, s.tau, A_, y_);
 }
 

@@ -71,6 +71,12 @@ class MomentumRows {
   /// The corner the last row was filtered with [Hz].
   double corner_hz() const { return corner_hz_; }
   bool primed() const { return primed_; }
+  /// The last row's unfiltered midpoint terms (valid after Update returned true): u = dP/dt + H
+  /// at the step's midpoint and the midpoint torque, and the step [s]. u_tau - u w is the
+  /// residual of the dynamics over the step, without lag and without the filter.
+  const Eigen::MatrixXd& midpoint_row() const { return midpoint_row_; }
+  const Eigen::VectorXd& midpoint_torque() const { return midpoint_tau_; }
+  double last_step() const { return last_step_; }
   /// The time of the last sample fed (valid when primed).
   double last_time() const { return last_t_; }
 
@@ -84,8 +90,11 @@ class MomentumRows {
   Eigen::VectorXd q_first_, q_sum_, q_square_sum_, qd_square_sum_;
   bool primed_ = false;
   double last_t_ = 0.0;
-  Eigen::MatrixXd P_, H_, P_last_, H_last_, filtered_dP_, filtered_H_;
+  Eigen::MatrixXd P_, H_, P_last_, H_last_, filtered_dP_;  ///< filtered_dP_: F[dP/dt + H]
   Eigen::VectorXd tau_last_, filtered_tau_;
+  Eigen::MatrixXd midpoint_row_;
+  Eigen::VectorXd midpoint_tau_;
+  double last_step_ = 0.0;
 };
 
 }  // namespace inertial

@@ -110,6 +110,12 @@ class OnlineJointEstimator {
   /// Without measured qdd, both are of the filtered torque F[tau] (momentum_rows.hpp).
   const Eigen::VectorXd& predicted() const { return tau_hat_; }
   const Eigen::VectorXd& residual() const { return residual_; }
+  /// For the consumers that compare it with the sample's own features (the stream diagnosis, the
+  /// residual channel): the torque's residual by the estimate before the sample. With qdd measured,
+  /// residual(); without, the rows' unfiltered midpoint residual u_tau - u w (no lag: momentum_rows.hpp)
+  /// low-passed at the momentum cutoff (the stream's accel_cutoff_hz), the filter the preprocessing
+  /// stage derives qdd with, so that a candidate's feature of the derived qdd (armature) matches it.
+  const Eigen::VectorXd& stream_residual() const { return stream_residual_; }
 
  private:
   RobotDynamics model_;
@@ -119,7 +125,7 @@ class OnlineJointEstimator {
   TreeWorkspace workspace_;
   MomentumRows momentum_;
   Eigen::MatrixXd A_;
-  Eigen::VectorXd w_, y_, tau_hat_, residual_;
+  Eigen::VectorXd w_, y_, tau_hat_, residual_, stream_residual_, midpoint_residual_;
 };
 
 }  // namespace inertial
