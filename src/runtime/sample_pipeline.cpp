@@ -66,7 +66,7 @@ SamplePipeline::Outcome SamplePipeline::Process(Sample* sample) {
     sample->joint.tau.array() /= log_gains_.array();  // the log's unit to N m (in place: no allocation)
   }
   out.rejection = preprocessor_.Process(&sample->joint);
-  if (out.rejection == Rejection::kPriming && !sample->joint.qdd_measured) {
+  if (out.rejection == Rejection::kPriming) {  // only a sample without qdd primes there
     robot_->Prime(sample->joint);  // the estimator's momentum rows start from the same sample
   }
   if (out.rejection != Rejection::kNone) {

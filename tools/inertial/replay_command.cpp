@@ -142,7 +142,7 @@ int Replay(const std::string& path, OnlineJointEstimator* estimator, const Repla
             changes = estimator->estimator().changes_detected();
             diagnosis->Reset();
           }
-          if (outcome.accepted()) diagnosis->Observe(s.joint, estimator->residual());
+          if (outcome.accepted()) diagnosis->Observe(s.joint, estimator->stream_residual());
         };
     *r = ReplayLog(path, estimator, options, observe);
   } catch (const CsvError& e) {
