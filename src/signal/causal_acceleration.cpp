@@ -16,7 +16,7 @@ bool CausalAcceleration::Update(double t, const Eigen::VectorXd& qd, Eigen::Vect
     return false;
   }
   const double dt = t - last_t_;
-  const double alpha = dt / (dt + 1.0 / (2.0 * M_PI * cutoff_hz_));
+  const double alpha = CausalLowPassGain(dt, cutoff_hz_);
   filtered_ += alpha * ((qd - last_qd_) / dt - filtered_);
   *qdd = filtered_;
   last_qd_ = qd;

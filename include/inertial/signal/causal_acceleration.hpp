@@ -9,6 +9,14 @@
 
 namespace inertial {
 
+/// The gain of the first-order low-pass the derived qdd is filtered with, per step dt at corner
+/// cutoff_hz: alpha = dt / (dt + 1 / (2 pi f_c)) (y += alpha (x - y)). Shared by whatever must be
+/// filtered as the derived qdd is (the online estimator's stream residual).
+inline double CausalLowPassGain(double dt, double cutoff_hz) {
+  constexpr double kTwoPi = 6.283185307179586;
+  return dt / (dt + 1.0 / (kTwoPi * cutoff_hz));
+}
+
 class CausalAcceleration {
  public:
   /// @param num_joints the size of qd; @param cutoff_hz > 0.

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "inertial/signal/causal_acceleration.hpp"
+
 namespace inertial {
 
 std::string_view ToString(EstimatorKind kind) {
@@ -120,8 +122,9 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
     }
     midpoint_residual_ = momentum_.midpoint_torque();
     midpoint_residual_.noalias() -= momentum_.midpoint_row() * w_;
-    const double g = std::exp(-2.0 * M_PI * momentum_.cutoff_hz() * momentum_.last_step());
-    stream_residual_ = g * stream_residual_ + (1.0 - g) * midpoint_residual_;
+    // Low-passed exactly as the preprocessing stage filters the derived qdd (causal_acceleration.hpp).
+    const double alpha = CausalLowPassGain(momentum_.last_step(), momentum_.cutoff_hz());
+    stream_residual_ += alpha * (midpoint_residual_ - stream_residual_);
   } else {
     momentum_.Reset();  // rows without qdd start again after a sample with it
     model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
