@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
@@ -104,6 +106,24 @@ inline CliRun RunCli(const std::vector<std::string>& args, const std::string& in
 
 inline std::string Describe(const CliRun& r) {
   return "exit " + std::to_string(r.exit_code) + "\n--- stdout ---\n" + r.out + "--- stderr ---\n" + r.err;
+}
+
+// The held-out error as a user reads it: `validate --model model --data data --json`'s relative RMS
+// torque error over every joint.
+inline double HeldOutError(const std::string& model, const std::string& data) {
+  const CliRun r = RunCli({"validate", "--model", model, "--data", data, "--json"});
+  EXPECT_EQ(r.exit_code, 0) << Describe(r);
+  return nlohmann::json::parse(r.out).at("relative_rms").at("total").get<double>();
+}
+
+// A fitting command (identify, replay ...) run with `--effects effects` (none if empty) and
+// `--write-urdf out`; returns out.
+inline std::string FitToUrdf(std::vector<std::string> command, const std::string& effects, const std::string& out) {
+  if (!effects.empty()) command.insert(command.end(), {"--effects", effects});
+  command.insert(command.end(), {"--write-urdf", out});
+  const CliRun r = RunCli(command);
+  EXPECT_EQ(r.exit_code, 0) << Describe(r);
+  return out;
 }
 
 inline bool Contains(const std::string& haystack, const std::string& needle) {

@@ -61,6 +61,8 @@ set(inertial_long_tests
   tools.InertialdMulticast.RestartsFromCheckpointsAndMatchesReplayOfTheRecording
   tools.OnlineBatch.KukaLwr4RunOneToRunTwoWithinTenPercentOfTheBatchFit
   tools.OnlineBatch.SimulatedHiddenEffectsHeldOutWithinTenPercentOfTheBatchFit
+  tools.GradientLaw.KukaLwr4WithinOneAndAHalfTimesTheBatchFit
+  tools.GradientLaw.WithinOneAndAHalfTimesTheBatchFitOnSimulatedRobots
   tools.OnlineWithoutQdd.SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd
   tools.PayloadCli.AgainstTheModelAndFromTheDifference
   tools.ReplayDiagnose.CleanStreamsGetNoSuggestion

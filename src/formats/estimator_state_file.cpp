@@ -46,6 +46,9 @@ std::string EstimatorStateToJson(const EstimatorState& s, const std::string& mod
     j["statistics_samples"] = s.statistics_samples;
     j["solved"] = s.solved;
   }
+  if (s.directions.size() > 0) {  // the gradient law's last direction (gradient_estimator.hpp)
+    j["directions"] = std::vector<double>(s.directions.data(), s.directions.data() + s.directions.size());
+  }
   j["has_time"] = s.has_time;
   j["last_time"] = s.last_time;
   nlohmann::json counters = nlohmann::json::object();
@@ -102,6 +105,10 @@ EstimatorState EstimatorStateFromJson(const std::string& text, const std::string
       }
       s.statistics_samples = j.at("statistics_samples").get<double>();
       s.solved = j.at("solved").get<bool>();
+    }
+    if (j.contains("directions")) {
+      const std::vector<double> d = j.at("directions").get<std::vector<double>>();
+      s.directions = Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size()));
     }
     s.has_time = j.at("has_time").get<bool>();
     s.last_time = j.at("last_time").get<double>();

@@ -103,6 +103,19 @@ InertialParams InertialParams::Transformed(const Matrix3& R_AB, const Vector3& p
   return InertialParams(PiFromPseudoInertia(T * pseudo_inertia() * T.transpose()));
 }
 
+Matrix4 PseudoInertiaGradient(const Vector10& g) {
+  Matrix4 G;
+  G(3, 3) = g[pi_index::kMass];
+  for (int k = 0; k < 3; ++k) G(k, 3) = G(3, k) = 0.5 * g[pi_index::kHx + k];
+  G(0, 0) = g[pi_index::kIyy] + g[pi_index::kIzz];
+  G(1, 1) = g[pi_index::kIxx] + g[pi_index::kIzz];
+  G(2, 2) = g[pi_index::kIxx] + g[pi_index::kIyy];
+  G(0, 1) = G(1, 0) = -0.5 * g[pi_index::kIxy];
+  G(1, 2) = G(2, 1) = -0.5 * g[pi_index::kIyz];
+  G(0, 2) = G(2, 0) = -0.5 * g[pi_index::kIxz];
+  return G;
+}
+
 Matrix4 PseudoInertiaFromPi(const Vector10& pi) {
   const Matrix3 I = InertiaFromPi(pi);
   Matrix4 J;

@@ -152,17 +152,7 @@ Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi
 }
 
 Matrix10 LogCholeskyParameterization::ContractedHessian(const Vector10& theta, const Vector10& g) const {
-  // G with g . PiFromPseudoInertia(J) = tr(G J) for every symmetric J.
-  Matrix4 G;
-  for (int a = 0; a < 4; ++a) {
-    for (int b = a; b < 4; ++b) {
-      Matrix4 E = Matrix4::Zero();
-      E(a, b) = 1.0;
-      E(b, a) = 1.0;
-      const double value = g.dot(PiFromPseudoInertia(E));
-      G(a, b) = G(b, a) = a == b ? value : 0.5 * value;
-    }
-  }
+  const Matrix4 G = PseudoInertiaGradient(g);  // g . pi = tr(G J)
   const Matrix4 U = LogCholeskyFactor(theta);
   const double ea = std::exp(theta[kAlpha]);
   // First derivatives of U.

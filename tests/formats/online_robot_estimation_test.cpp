@@ -122,27 +122,38 @@ void ExpectGaussNewtonConverges(const Case& c) {
 TEST(OnlineRobotEstimation, GaussNewtonLegWithRotorsAndFriction) { ExpectGaussNewtonConverges(kLeg); }
 TEST(OnlineRobotEstimation, GaussNewtonArmWithFriction) { ExpectGaussNewtonConverges(kArm); }
 
-// The gradient law (no covariance, n m per tick) on the leg, default gain 0.05: at least a
-// threefold improvement on the prior's torque error in 40 s (measured: 4.16 -> 0.97 N m; gain 1
-// fits every noisy sample and ends no better than the prior, 0.02 reaches 0.84), every tick
-// consistent.
+// The gradient law (no covariance, no solve; gradient_estimator.hpp) on the leg with rotors and
+// friction (66 parameters, 40 s): every tick consistent, and its predictions of the held-out clean
+// torques at least 5 times better than the prior's (the bound leaves room for another machine's
+// rounding, below). Measured: prior 3.17 N m, the law 0.078 or
+// 0.211 (the matrix exponential by eigen-decomposition or by Taylor series: rounding alone moves
+// it, along what the stream hardly excites, where the objective is flat and the law has no prior),
+// the online fit of the same stream 0.017 (its solve holds those directions at the prior). On
+// measured torques the law is within 1.1 times the batch fit (tools.GradientLaw). The law before
+// (a normalized LMS) ended at 0.97 N m.
 TEST(OnlineRobotEstimation, GradientLawImprovesOnThePrior) {
   const Stream& stream = StreamOf(kLeg);
   const RobotDynamics& model = stream.model;
   const testing::SimulatedLogs& logs = stream.logs;
   OnlineEstimatorOptions o;
-  o.kind = EstimatorKind::kEkf;  // the per-sample Kalman estimator (online_fit_test.cpp: the fit)
   o.kind = EstimatorKind::kGradient;
   o.measurement_sigma = kLeg.sigma;
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()), o);
+  OnlineEstimatorOptions fit_options;  // gauss_newton: the online fit
+  fit_options.measurement_sigma = kLeg.sigma;
+  OnlineJointEstimator fit(model, Eigen::VectorXd::Zero(model.num_parameters()), fit_options);
   const double prior_error = RmsError(est, logs.test_clean);
   for (int k = 0; k < logs.train.size(); ++k) {
     est.Update(At(logs.train, k));
     ASSERT_EQ(InconsistentBodies(est), 0) << k;
+    fit.Update(At(logs.train, k));
+    if (fit.SolveDue()) fit.Solve();
   }
-  const double error = RmsError(est, logs.test_clean);
-  std::cerr << "gradient law on the leg: clean-torque RMS prior " << prior_error << ", online " << error << "\n";
-  EXPECT_LT(error, prior_error / 3);
+  fit.Solve(true);
+  const double error = RmsError(est, logs.test_clean), fit_error = RmsError(fit, logs.test_clean);
+  std::cerr << "gradient law on the leg: clean-torque RMS prior " << prior_error << ", law " << error << ", online fit "
+            << fit_error << "\n";
+  EXPECT_LT(error, prior_error / 5);
 }
 
 // Faults on the arm's stream: NaN/Inf in q, qd, qdd, tau and t; repeated and out-of-order time

@@ -124,6 +124,23 @@ TEST(InertialParams, OrderAndSignConventions) {
   EXPECT_EQ(p.spatial_inertia()(0, 4), -6.0);  // S(h)(0,1) = -hz
 }
 
+// PseudoInertiaGradient is the adjoint of the linear map J -> pi: g . pi(J) = tr(G J) for random g
+// and random symmetric J (not only pseudo-inertias), and G is symmetric.
+TEST(InertialParams, PseudoInertiaGradientIsTheAdjointOfPiFromPseudoInertia) {
+  Rng rng(11);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Vector10 g = rng.UniformVector<10>(-3.0, 3.0);
+    Matrix4 J;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = i; j < 4; ++j) J(i, j) = J(j, i) = rng.Uniform(-2.0, 2.0);
+    }
+    const Matrix4 G = PseudoInertiaGradient(g);
+    EXPECT_EQ((G - G.transpose()).norm(), 0.0);
+    const double direct = g.dot(PiFromPseudoInertia(J));
+    EXPECT_NEAR((G * J).trace(), direct, 1e-13 * (1.0 + std::abs(direct)));
+  }
+}
+
 TEST(InertialParams, RejectsMalformedMatrices) {
   Matrix6 M = SolidSphere(1.0, 0.2).spatial_inertia();
   M(4, 4) += 0.1;  // lower-right block not m 1

@@ -22,12 +22,6 @@ using testing::Describe;
 using testing::RunCli;
 namespace fs = std::filesystem;
 
-double HeldOut(const std::string& model, const std::string& data) {
-  const testing::CliRun r = RunCli({"validate", "--model", model, "--data", data, "--json"});
-  EXPECT_EQ(r.exit_code, 0) << Describe(r);
-  return nlohmann::json::parse(r.out).at("relative_rms").at("total").get<double>();
-}
-
 struct Errors {
   double batch = 0, online = 0;
 };
@@ -45,7 +39,7 @@ Errors OnlineAndBatch(const fs::path& dir, const std::string& model, const std::
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
   r = RunCli(replay);
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
-  return {HeldOut(batch, test), HeldOut(online, test)};
+  return {testing::HeldOutError(batch, test), testing::HeldOutError(online, test)};
 }
 
 struct Case {

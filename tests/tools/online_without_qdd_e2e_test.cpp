@@ -25,12 +25,6 @@ using testing::Describe;
 using testing::RunCli;
 namespace fs = std::filesystem;
 
-double HeldOut(const std::string& model, const std::string& data) {
-  const testing::CliRun r = RunCli({"validate", "--model", model, "--data", data, "--json"});
-  EXPECT_EQ(r.exit_code, 0) << Describe(r);
-  return nlohmann::json::parse(r.out).at("relative_rms").at("total").get<double>();
-}
-
 // The CSV log at `from` without its qdd_ columns (comment lines kept).
 void DropAccelerations(const std::string& from, const std::string& to) {
   std::ifstream in(from);
@@ -55,14 +49,6 @@ void DropAccelerations(const std::string& from, const std::string& to) {
     }
     out << joined << "\n";
   }
-}
-
-std::string Fit(const std::vector<std::string>& command, const std::string& effects, const std::string& out) {
-  std::vector<std::string> args = command;
-  args.insert(args.end(), {"--effects", effects, "--write-urdf", out});
-  const testing::CliRun r = RunCli(args);
-  EXPECT_EQ(r.exit_code, 0) << Describe(r);
-  return out;
 }
 
 const char* kLegMotors = R"(window: 0.002
@@ -96,18 +82,18 @@ TEST(OnlineWithoutQdd, SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd) 
     simulate({"--positions-only", "--write-log", path("train.lcm")});  // q, qd, tau: no qdd
     simulate({"--out", path("test.csv"), "--duration", "8", "--seed", "2"});
     DropAccelerations(path("train.csv"), path("train-no-qdd.csv"));
-    const double batch = HeldOut(Fit({"identify", "--model", model, "--data", path("train.csv")}, c.effects, path("batch.urdf")),
+    const double batch = testing::HeldOutError(testing::FitToUrdf({"identify", "--model", model, "--data", path("train.csv")}, c.effects, path("batch.urdf")),
                                  path("test.csv"));
-    const double lcm = HeldOut(Fit({"replay", "--model", model, "--log", path("train.lcm")}, c.effects, path("lcm.urdf")),
+    const double lcm = testing::HeldOutError(testing::FitToUrdf({"replay", "--model", model, "--log", path("train.lcm")}, c.effects, path("lcm.urdf")),
                                path("test.csv"));
-    const double csv = HeldOut(
-        Fit({"replay", "--model", model, "--log", path("train-no-qdd.csv")}, c.effects, path("csv.urdf")), path("test.csv"));
+    const double csv = testing::HeldOutError(
+        testing::FitToUrdf({"replay", "--model", model, "--log", path("train-no-qdd.csv")}, c.effects, path("csv.urdf")), path("test.csv"));
     std::cerr << c.robot << ": batch on exact qdd " << batch << ", LCM without qdd " << lcm << ", CSV without qdd " << csv << "\n";
     EXPECT_LE(lcm, 1.1 * batch) << c.robot << ": LCM without qdd " << lcm << ", batch on exact qdd " << batch;
     EXPECT_LE(csv, 1.1 * batch) << c.robot << ": CSV without qdd " << csv << ", batch on exact qdd " << batch;
     if (c.robot == "leg3.urdf") {
       simulate({"--write-candump", path("train.can"), "--can-config", path("motors.yaml")});
-      const double can = HeldOut(Fit({"replay", "--model", model, "--candump", path("train.can"), "--can-config",
+      const double can = testing::HeldOutError(testing::FitToUrdf({"replay", "--model", model, "--candump", path("train.can"), "--can-config",
                                       path("motors.yaml")},
                                      c.effects, path("can.urdf")),
                                  path("test.csv"));
@@ -129,11 +115,11 @@ TEST(OnlineWithoutQdd, KukaLwr4WithoutItsAccelerationColumns) {
   const std::string model = data + "/kuka_lwr4.urdf", effects = "offset,viscous,coulomb";
   const std::string train = (dir / "run1-no-qdd.csv").string();
   DropAccelerations(data + "/measurements_1.csv", train);
-  const double batch = HeldOut(Fit({"identify", "--model", model, "--data", data + "/measurements_1.csv"}, effects,
+  const double batch = testing::HeldOutError(testing::FitToUrdf({"identify", "--model", model, "--data", data + "/measurements_1.csv"}, effects,
                                    (dir / "batch.urdf").string()),
                                data + "/measurements_2.csv");
   const double online =
-      HeldOut(Fit({"replay", "--model", model, "--log", train}, effects, (dir / "online.urdf").string()),
+      testing::HeldOutError(testing::FitToUrdf({"replay", "--model", model, "--log", train}, effects, (dir / "online.urdf").string()),
               data + "/measurements_2.csv");
   std::cerr << "KUKA run 1 -> run 2: batch on exact qdd " << batch << ", online without qdd " << online << "\n";
   EXPECT_LE(online, 1.1 * batch) << "online without qdd " << online << ", batch on exact qdd " << batch;

@@ -78,5 +78,11 @@ class InertialParams {
 Matrix4 PseudoInertiaFromPi(const Vector10& pi);
 /// pi from the symmetric part of J.
 Vector10 PiFromPseudoInertia(const Matrix4& J);
+/// The adjoint of PiFromPseudoInertia: the symmetric G with g . PiFromPseudoInertia(J) = tr(G J)
+/// for every symmetric J (the gradient of a function of pi, as a gradient in J). From m = J33,
+/// h = J(0:3, 3), Ixx = S11 + S22, ..., Ixy = -S01, ... (S = J(0:3, 0:3)):
+///   G33 = g_m, G(k, 3) = g_hk / 2, G00 = g_Iyy + g_Izz, G11 = g_Ixx + g_Izz, G22 = g_Ixx + g_Iyy,
+///   G01 = -g_Ixy / 2, G12 = -g_Iyz / 2, G02 = -g_Ixz / 2.
+Matrix4 PseudoInertiaGradient(const Vector10& g);
 
 }  // namespace inertial

@@ -56,6 +56,10 @@ std::unique_ptr<RecursiveEstimator> MakeRecursiveEstimator(const ParameterLayout
     case EstimatorKind::kGradient: {
       GradientOptions o = options.gradient;
       o.measurement_sigma = options.measurement_sigma;
+      // The bodies the online fit's solve holds at their priors, the law holds too.
+      if (o.frozen_bodies.empty() && options.fit.solve.frozen_bodies.size() == layout.bodies().size()) {
+        o.frozen_bodies = options.fit.solve.frozen_bodies;
+      }
       return std::make_unique<GradientEstimator>(layout, m, x0, std_x, o);
     }
     case EstimatorKind::kLinearRls: {

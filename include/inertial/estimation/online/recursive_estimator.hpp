@@ -36,6 +36,8 @@ struct EstimatorState {
   Eigen::MatrixXd statistics;
   double statistics_samples = 0.0;
   bool solved = false;
+  /// The gradient law's memory of its last direction (gradient_estimator.hpp); empty for the others.
+  Eigen::VectorXd directions;
 };
 
 /// Largest |time| [s] a restored state may hold: 1e10 s is year 2286 as Unix time (time stamps are
