@@ -26,7 +26,7 @@ TEST(AdaptiveControlExample, TrackingErrorFallsAsThePayloadIsLearned) {
   double t = 0, fixed = 0, adaptive = 0, mass = 0, late_fixed = 0, late_adaptive = 0;
   while (std::getline(out, line)) {
     ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %lf", &t, &fixed, &adaptive, &mass), 4) << line;
-    if (t > 0.5) {  // once the payload has been learned (the first solves, in the first 50 ms)
+    if (t > 0.5) {  // once the payload has been learned (the law's first steps, docs/online.md)
       late_fixed += fixed;
       late_adaptive += adaptive;
     }

@@ -61,9 +61,11 @@ struct DaemonOptions {
 ///   max_variance_factor [1] 1: cap of P_ii under forgetting and process noise, times its initial value, >= 1
 ///   huber [sigma] 3: normalized innovation where down-weighting starts, > 0
 ///   gate [sigma] 30: normalized innovation beyond which a sample is an outlier, > huber
-///   max_consecutive_outliers [samples] 50: more in a row is a change (P reset), integer >= 1
-///   max_step [parameter] 0.5 (gradient 0.1): bound on |dx|_inf per sample, > 0
-///   gain [1] 0.05: the gradient law's normalized step, in (0, 2)
+///   max_consecutive_outliers [samples] 50: more in a row is a change (P reset; the gradient law's
+///     statistics restarted), integer >= 1
+///   max_step [parameter] 0.5: bound on |dx|_inf per sample, > 0 (gradient 0.1: the relative change
+///     of a body's J, |gamma S_b|_F, and |dx|_inf of the effects)
+///   gain [1] 1: the gradient law's step over the exact minimizer along its direction, in (0, 2)
 /// @throws std::invalid_argument naming the key and its range.
 void ApplyDaemonConfig(const nlohmann::json& config, DaemonOptions* options);
 

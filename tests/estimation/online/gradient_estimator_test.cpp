@@ -163,6 +163,44 @@ TEST(GradientEstimator, NaturalGradientAgainstFiniteDifferencesOfTheDivergence) 
   }
 }
 
+// Two bodies adding into one block of features (a payload on its link, without features of its
+// own): each moves along its own natural gradient J_b T*(g) J_b, and the line search sizes the step
+// for their sum; a frozen body stays where it is.
+TEST(GradientEstimator, BodiesSharingFeaturesEachTakeTheirOwnStep) {
+  Rng rng(7);
+  const InertialParams link = Prior();
+  Pose pose;
+  pose.p_BoCo_B = Vector3(0.0, 0.1, -0.2);
+  const InertialParams payload = SolidBox(0.5, 0.05, 0.05, 0.05, pose);
+  const ParameterLayout layout(10, {BodyBlock{LogCholeskyParameterization(link), 0, 0}, BodyBlock{LogCholeskyParameterization(payload), 0, 10}}, {});
+  GradientOptions o;
+  o.huber = o.gate = 1e9;
+  o.max_step = 1e9;
+  const int m = 6;
+  const Eigen::MatrixXd A = RandomMatrix(rng, m, 10);
+  const Eigen::VectorXd y = A * (link.vector() + 1.3 * payload.vector()) + 0.01 * RandomMatrix(rng, m, 1);
+  GradientEstimator law(layout, m, Eigen::VectorXd::Zero(20), Eigen::VectorXd::Ones(20), o);
+  ASSERT_EQ(law.Update(0.0, A, y), UpdateStatus::kAccepted);
+  const Matrix10 S = A.transpose() * A;
+  const Vector10 g = A.transpose() * y - S * (link.vector() + payload.vector());
+  const Matrix4 T = PseudoInertiaGradient(g);
+  const Matrix4 J[2] = {link.pseudo_inertia(), payload.pseudo_inertia()};
+  const Vector10 dw = PiFromPseudoInertia(J[0] * T * J[0]) + PiFromPseudoInertia(J[1] * T * J[1]);
+  const double gamma = g.dot(dw) / dw.dot(S * dw);
+  for (int b = 0; b < 2; ++b) {
+    const Matrix4 root = SymmetricFunction(J[b], [](double l) { return std::sqrt(l); });
+    const Vector10 expected =
+        PiFromPseudoInertia(root * SymmetricFunction(gamma * root * T * root, [](double l) { return std::exp(l); }) * root);
+    const Vector10 got = layout.Body(b, law.parameters()).vector();
+    EXPECT_LT((got - expected).norm(), 1e-11 * expected.norm()) << "body " << b;
+  }
+  o.frozen_bodies = {true, false};
+  GradientEstimator held(layout, m, Eigen::VectorXd::Zero(20), Eigen::VectorXd::Ones(20), o);
+  ASSERT_EQ(held.Update(0.0, A, y), UpdateStatus::kAccepted);
+  EXPECT_EQ(held.parameters().head(10), Eigen::VectorXd::Zero(10));
+  EXPECT_GT(held.parameters().tail(10).norm(), 0.0);
+}
+
 // Whatever the data, every estimate is a fully consistent body: measurements a thousand times
 // those of any body the prior could be, of random sign.
 TEST(GradientEstimator, EveryStepIsAConsistentBody) {
@@ -242,6 +280,37 @@ TEST(GradientEstimator, HuberWeightGateStepBoundAndRefusal) {
   EXPECT_DOUBLE_EQ(limited.parameters()[0], 0.0);
   EXPECT_EQ(limited.State().statistics(0, 0), 0.0);
   EXPECT_EQ(limited.State().statistics(0, 1), 0.0);
+  // From a memory that is not empty: refused, statistics and direction exactly as they were.
+  o.max_abs_parameter = 10.0;
+  GradientEstimator second(Scalars(1, ScalarMap::kLinear), 1, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Ones(1), o);
+  ASSERT_EQ(second.Update(0.0, A, Eigen::VectorXd::Constant(1, 0.3)), UpdateStatus::kAccepted);  // x = 0.3
+  const EstimatorState before = second.State();
+  EXPECT_EQ(second.Update(1.0, A, Eigen::VectorXd::Constant(1, 40.0)), UpdateStatus::kNumerical);  // x would be 20.15
+  EXPECT_EQ(second.State().statistics, before.statistics);
+  EXPECT_EQ(second.State().directions, before.directions);
+  EXPECT_EQ(second.parameters(), before.x);
+}
+
+// More than max_consecutive_outliers outliers in a row are a change of the system: the memory
+// starts over with the sample that ends the run, and the law follows the new system.
+TEST(GradientEstimator, ARunOfOutliersRestartsTheMemory) {
+  GradientOptions o;
+  o.measurement_sigma = 0.1;
+  o.max_consecutive_outliers = 5;
+  o.max_step = 1e9;  // the step to the new memory's minimizer in one
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Identity(1, 1);
+  GradientEstimator law(Scalars(1, ScalarMap::kLinear), 1, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Ones(1), o);
+  for (int k = 0; k < 100; ++k) ASSERT_EQ(law.Update(0.01 * k, A, Eigen::VectorXd::Constant(1, 1.0)), UpdateStatus::kAccepted);
+  EXPECT_NEAR(law.parameters()[0], 1.0, 1e-12);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(law.Update(1.0 + 0.01 * k, A, Eigen::VectorXd::Constant(1, 10.0)), UpdateStatus::kOutlier);
+  }
+  EXPECT_EQ(law.changes_detected(), 0u);
+  // The sixth: a change. Residual 9 = 90 sigmas, Huber weight 3 / 90: S = 1/30, s = 1/3.
+  EXPECT_EQ(law.Update(1.1, A, Eigen::VectorXd::Constant(1, 10.0)), UpdateStatus::kAccepted);
+  EXPECT_EQ(law.changes_detected(), 1u);
+  EXPECT_NEAR(law.State().statistics(0, 0), 1.0 / 30.0, 1e-15);
+  EXPECT_NEAR(law.parameters()[0], 10.0, 1e-12);  // the minimizer of the new memory
 }
 
 // State() carries x and the statistics: a restored law continues exactly as the original.

@@ -62,7 +62,8 @@ struct Refusal {
   std::string what;
 };
 
-/// Bitwise equality of two states (x, covariance, time, counters, the fit's statistics);
+/// Bitwise equality of two states (x, covariance, time, counters, the fit's statistics, the gradient
+/// law's directions);
 /// counters compared only if asked.
 inline ::testing::AssertionResult SameState(const EstimatorState& a, const EstimatorState& b, bool counters = true) {
   if (a.kind != b.kind) return ::testing::AssertionFailure() << "kind " << a.kind << " vs " << b.kind;
@@ -76,6 +77,9 @@ inline ::testing::AssertionResult SameState(const EstimatorState& a, const Estim
   if (a.statistics.rows() != b.statistics.rows() || a.statistics.cols() != b.statistics.cols() ||
       a.statistics != b.statistics) {
     return ::testing::AssertionFailure() << "statistics differ";
+  }
+  if (a.directions.size() != b.directions.size() || a.directions != b.directions) {
+    return ::testing::AssertionFailure() << "directions differ";  // the gradient law's last direction
   }
   if (a.statistics_samples != b.statistics_samples || a.solved != b.solved) {
     return ::testing::AssertionFailure() << "statistics count or solved differ";

@@ -42,7 +42,7 @@
 /// which is the formula above when beta = 0. Steepest descent alone zig-zags on the
 /// ill-conditioned objective of a robot: measured held-out error over the batch fit's on the
 /// bundled robots and the KUKA, 1.04-1.98x with exact steps, 1.07-1.31x relaxed to half of them,
-/// 1.01-1.07x with conjugate directions (docs/online.md).
+/// 1.00-1.18x with conjugate directions (docs/online.md).
 ///
 /// Outliers are gated on |r| / (sigma sqrt(m)) of the sample's prediction error, as in the Kalman
 /// update (Huber weights beyond `huber` on its statistics); steps are bounded (|gamma S_b|_F per
@@ -89,6 +89,8 @@ class GradientEstimator final : public RecursiveEstimator {
   const Eigen::VectorXd& parameters() const override { return x_; }
   void Coefficients(Eigen::Ref<Eigen::VectorXd> w) const override { layout_.Coefficients(x_, w); }
   Eigen::MatrixXd Covariance() const override { return Eigen::MatrixXd(); }
+  /// Runs of more than max_consecutive_outliers outliers taken as changes (the memory restarted).
+  std::uint64_t changes_detected() const override { return changes_; }
   const ParameterLayout& layout() const { return layout_; }
 
  protected:
@@ -99,6 +101,8 @@ class GradientEstimator final : public RecursiveEstimator {
   void RestoreExtra(const EstimatorState& state) override;
 
  private:
+  int DirectionsSize() const;  // of EstimatorState::directions
+
   ParameterLayout layout_;
   GradientOptions options_;
   int padded_ = 0;  // F rounded up to the kernels' block (symmetric_rank_update.hpp)
@@ -108,6 +112,9 @@ class GradientEstimator final : public RecursiveEstimator {
   std::vector<Matrix4> reference_factor_;   // U0 of each body's prior (J0 = U0 U0^T)
   std::vector<Matrix4> factor_, exponent_;  // F and S_b of each body, this sample
   int consecutive_outliers_ = 0;
+  std::uint64_t changes_ = 0;
+  std::vector<Matrix4> direction_z_, direction_d_, previous_d_;  // per body, in J: z, d, the last d
+  Eigen::VectorXd Adw_;
   Eigen::VectorXd previous_g_, previous_dw_, previous_dx_;
   double previous_zg_ = 0.0;
   bool has_previous_ = false;

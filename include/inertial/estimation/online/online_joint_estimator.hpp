@@ -41,8 +41,10 @@ struct OnlineEstimatorOptions {
   double theta_std = 0.3;          ///< initial uncertainty of every log-Cholesky parameter
   double effect_std = 1.0;         ///< initial uncertainty of every effect parameter (log or linear)
   double linear_std_scale = 0.3;   ///< linear RLS: initial std of each pi entry, relative to |prior| + 0.01
-  /// Per-parameter initial uncertainty (or scale, for the gradient law), overriding theta_std and
-  /// effect_std when not empty: e.g. small for links known from CAD, large for an unknown payload.
+  /// Per-parameter initial uncertainty (for the gradient law, the scale of its effect parameters
+  /// only: its bodies move in the log-det metric, and are held by fit.solve.frozen_bodies),
+  /// overriding theta_std and effect_std when not empty: e.g. small for links known from CAD, large
+  /// for an unknown payload.
   Eigen::VectorXd initial_std;
   KalmanOptions kalman;            ///< measurement_sigma here is overridden by the one above
   OnlineFitOptions fit;            ///< gauss_newton of a robot (measurement_sigma, theta_std, effect_std unused)
