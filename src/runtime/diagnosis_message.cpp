@@ -46,8 +46,10 @@ std::vector<std::uint8_t> EncodePayloadEvent(const PayloadEvent& e) {
     m.com_std[i] = e.com_std[i];
   }
   for (int i = 0; i < 10; ++i) m.added_pi[i] = e.added_pi[i];
-  m.residual_rms = e.residual_rms;
-  m.runner_up_rms = e.runner_up_rms;
+  m.statistic = e.statistic;
+  m.threshold = e.threshold;
+  m.kappa = e.kappa;
+  m.runner_up_margin = e.runner_up_margin;
   m.runner_up_link = e.runner_up_link;
   m.num_samples = e.num_samples;
   std::vector<std::uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));

@@ -1,64 +1,66 @@
 /// @file payload_event.hpp
-/// Payload events: a payload picked up or put down, as the online estimator's change detector sees
-/// it (kalman_update.hpp: more than max_consecutive_outliers innovations in a row beyond the gate
-/// reset the covariance around the current estimate), turned into one value per change: when, on
-/// which link, and the added body's mass and centre of mass with their standard deviations.
+/// Payload events: a payload picked up or put down, found from the prediction errors of the online
+/// estimate by a sequential generalized likelihood ratio (GLR) test, located on a link, confirmed
+/// on samples the test has not seen, and reported as one value per change: when, on which link,
+/// and the added body's mass and centre of mass with their standard deviations.
 ///
-/// When. The estimator leaves x untouched on an outlier. The sample that makes the run longer than
-/// max_consecutive_outliers is not an outlier: P is reset and that sample is taken (a
-/// Huber-weighted step of up to max_step), so at the detecting sample the estimate has already
-/// left the pre-change one (recursive_gauss_newton.cpp, kalman_update.cpp). The detector therefore
-/// copies the coefficients w at the first outlier of every run (into memory sized at
-/// construction) and keeps that sample's time: the onset, the first sample the changed system made
-/// an outlier. The detection time is the sample at which changes_detected() grew.
+/// The model of a change. With A(q, qd, qdd) the model's features (RobotDynamics::Features) and
+/// w_ref the estimator's coefficients taken when the detector armed (held fixed: the detector does
+/// not follow the estimate, which goes on learning and would absorb a payload into its links),
+/// the prediction error of sample k is r_k = tau_k - A_k w_ref. A rigid body dpi added to tree
+/// body B (a payload on link B) changes it by A_k,B dpi (A_k,B: B's 10 columns). The residual of
+/// a wrong w_ref that a body on B explains is there before and after a change alike; so the test
+/// is a two-sample one (Chow's): over a reference span R before a candidate onset and the window
+/// W from the onset to now, each joint's error divided by its noise scale s_j (z = r / s),
+///   N_X = sum_{k in X} A_k,B^T S^-2 A_k,B,   g_X = sum_{k in X} A_k,B^T S^-2 r_k,   X = R, W,
+///   LR_B(onset) = g_R^T N_R^-1 g_R + g_W^T N_W^-1 g_W - g_P^T N_P^-1 g_P    (P = R + W pooled):
+/// the drop of the squared normalized error when R and W each get a body of their own on B
+/// instead of one body for both. For white unit-variance z it is chi-square with (at most) 10
+/// degrees of freedom when nothing changed on B.
 ///
-/// What was added: a payload fit against the frozen pre-change model, not the difference of the
-/// estimator's link masses. The reset frees every link, and a serial arm's individual link masses
-/// are not identifiable from joint torques (they enter only through base parameters, lumped with the
-/// first moments of the links before them, and the estimator's covariance is overconfident about
-/// them): on the 7-DOF arm, 20 s after a 2 kg payload was put on link7, the estimator's link7 mass
-/// had gone 0.506 -> 0.465 kg while link3 gained 0.70 kg and link5 0.59 kg; ranked by mass change
-/// over its std, the pick-up was +0.56 +- 0.03 kg on link5 and the put-down -0.31 +- 0.02 kg on
-/// link4 (tests/diagnosis/payload_event_test.cpp, TheEstimatorsLinkMassesDoNotLocateThePayload).
-/// Instead, from the detecting sample on, with w_b the pre-change coefficients and A(q, qd, qdd)
-/// the model's features (RobotDynamics::Features),
-///   r_k = tau_k - A_k w_b = A_k,B dpi_B + e_k        (A_k,B: the 10 columns of tree body B)
-/// is fitted by least squares for every candidate body B (each tree body: links, rotors; a payload
-/// effect shares its link's columns), from the normal equations accumulated per sample:
-///   N_B = sum_k A_k,B^T A_k,B,  g_B = sum_k A_k,B^T r_k,  dpi_B = N_B^-1 g_B,
-///   RSS_B = sum_k |r_k|^2 - g_B^T dpi_B,   s_B^2 = RSS_B / (num_dofs K - 10),   cov(dpi_B) = s_B^2 N_B^-1.
-/// The event's link is the body of least RSS (the one whose added rigid body explains the change);
-/// dpi is mapped to that body's report frame (ReportFrameMap), and
-///   added mass dm = dpi_m (negative for a put-down), std sqrt(cov_mm);
-///   COM of the added body c = dh / dm,  J_c_dpi = [-dh / dm^2, 1 / dm, 0],  cov(c) = J cov(dpi) J^T
-/// (first order; a put-down gives the removed body's COM: dh and dm both change sign).
-/// Neglected: the pre-change model's own error, except through s_B (it estimates the residual's
-/// spread, which includes whatever of that error the fit cannot absorb, but treats it as white); a
-/// payload that is not rigidly fixed to one link; the second-order terms of dh / dm (|dm| is many
-/// of its std when the event settles). The samples of the outlier run itself are not used (their
-/// features were not computed: the ordinary tick stays a counter comparison). The model error is
-/// what limits accuracy once the noise is averaged out: on the tests' arm (0.1 N m noise, 1 s of
-/// fit) a 2 kg put-down came out at -2.0046 +- 0.0009 kg and its COM 4-5 mm off against a std
-/// of 1 mm, from the pre-change (loaded) estimate's error; neither the fit's residual nor the
-/// estimator's covariance (0.6 g, propagated) shows it, so a caller should allow ~0.5 % of the
-/// mass and ~1 cm of COM beyond the reported std.
+/// Noise found from the data, and its correlation. s_j is the median over the calibration blocks
+/// (the first calibration_time after arming) of joint j's block RMS error: a model error the
+/// estimate carries counts as noise, as it does for the online fit's gate. Real residuals are not
+/// white (filtered signals, model error that varies along the trajectory): LR is then larger by
+/// about the integrated autocorrelation kappa of z. kappa is estimated from the reference span by
+/// batch means, kappa_j = n var(block means of z_j) / var(z_j), on blocks of one block_time and of
+/// five, and the largest over joints and both lengths (at least 1) divides LR. The decision:
+///   LR_B(onset) / kappa > c,   P(chi2_10 > c) = false_alarm_rate / (tests per hour),
+/// a Bonferroni bound over every onset and body tested per block (tests per hour = 3600 /
+/// block_time x onsets x bodies), chi2_10's tail in closed form (even degrees of freedom). The
+/// body and onset are those of the largest LR / kappa.
 ///
-/// The settle rule (PayloadEventOptions). Every check_interval of sample time from
-/// min_settle_time after detection on, the fit is solved; the event is emitted at the first check
-/// where std(dm) <= mass_std_fraction |dm| (the mass known to that fraction), or at max_settle_time
-/// whatever (settled false). A second change detected while one is settling emits the first at
-/// once, with the data it has (settled false). The defaults and why: PayloadEventOptions.
+/// Confirmation on new samples. A GLR fits its window; a model error that varies along the
+/// trajectory can look like a body over one stretch. The change found, delta = dpi_W - dpi_R (the
+/// window's body less the reference's), must then predict the samples that come after it, which
+/// the test has not used: over those blocks (N_n, g_n),
+///   gain = 2 (g_n - N_n dpi_R)^T delta - delta^T N_n delta     (the drop of the squared error),
+///   expected = delta^T N_n delta,  its noise std 2 sqrt(kappa expected).
+/// The change is confirmed when gain >= expected / 2 (it explains at least half of what it should)
+/// and gain >= 3 stds (the new data alone say so), refuted when the new data are informative
+/// (expected / 2 >= 3 stds) and gain < expected / 2, and dropped unconfirmed after confirm_time.
+/// A confirmed change is fitted over everything from its onset (dpi_W less dpi_R, the pre-existing
+/// error), mapped to the link's report frame (ReportFrameMap); the event is emitted as soon as
+/// std(mass) <= mass_std_fraction |mass| (settled) or after max_settle_time whatever (settled
+/// false). Covariance kappa (N_W^-1 + N_R^-1); added mass dm = dpi_m, COM c = dh / dm, cov(c) =
+/// J cov(dpi) J^T with J_c_dpi = [-dh / dm^2, 1 / dm, 0] (first order). After an event the next
+/// change is tested against references that begin at this one's onset only (the span before it is
+/// another system), so a put-down after a pick-up is found the same way, as a negative body.
 ///
-/// Cost. Observe() compares four counters per tick; at the first outlier of a run it copies w (F
-/// doubles). While a change settles it computes the sample's features and adds to the normal
-/// equations of every candidate (for the 7-DOF arm about as much as the estimator's own tick), and
-/// solves 10 x 10 systems at each check. None of that allocates; building the emitted event does
-/// (the link's name).
+/// Arming. The detector arms once the estimator has had arm_time of samples to learn from (and,
+/// for the online fit, has solved): it takes w_ref, spends calibration_time measuring s_j, and
+/// tests once min_reference_time of blocks lie before the earliest onset. It does not follow the
+/// estimate later: re-taking w_ref would leave it blind for calibration and reference again, and a
+/// w_ref that is off only widens s_j (the part of its error a body on B explains is fitted out by
+/// the reference). It re-arms after a gap in the stream longer than max_window.
 ///
-/// Works with any RecursiveEstimator that reports changes_detected() (recursive Gauss-Newton; the
-/// gradient law has no change detector, and linear RLS does not report its count).
-/// Conventions: SI units, seconds of sample time (JointSample::t); pi order of types.hpp; the COM
-/// c = h / m in the link's report frame (for a URDF link: the link frame).
+/// Cost. Per sample: the features (one RNEA pass per body, as the estimator's tick), the error
+/// against w_ref, and one weighted rank-m update of a 10 x 10 matrix per body; per block: the
+/// tests, three 10 x 10 Cholesky solves per onset and body. Nothing allocates after construction
+/// except building the emitted event (the link's name).
+///
+/// Works with every estimator kind. Conventions: SI units, seconds of sample time (JointSample::t);
+/// pi order of types.hpp; the COM c = h / m in the link's report frame (for a URDF link: the link frame).
 #pragma once
 
 #include <cstdint>
@@ -74,100 +76,172 @@ namespace inertial {
 
 /// One payload picked up (added_mass > 0) or put down (added_mass < 0) on one link.
 struct PayloadEvent {
-  double onset_time = 0.0;      ///< [s] the first sample of the outlier run that led to detection
-  double detection_time = 0.0;  ///< [s] the sample at which the change detector fired (the covariance reset)
-  double settle_time = 0.0;     ///< [s] the sample at which the event was emitted
-  bool settled = false;         ///< false: emitted at max_settle_time, or cut short by the next change
-  int body = -1;                ///< estimated body (RobotDynamics::bodies() index) the payload is on; -1: unknown
-  std::string link;             ///< its name, e.g. "link7"; "(unknown)" when no fit had a solution
-                                ///< (the arm did not move enough), with NaN quantities
+  double onset_time = 0.0;      ///< [s] the start of the block the change began in (the GLR's onset)
+  double detection_time = 0.0;  ///< [s] the sample at which the test fired
+  double settle_time = 0.0;     ///< [s] the sample at which the event was emitted (confirmed)
+  bool settled = false;         ///< false: emitted at max_settle_time before its mass was known to mass_std_fraction
+  int body = -1;                ///< estimated body (RobotDynamics::bodies() index) the payload is on
+  std::string link;             ///< its name, e.g. "link7"
   double added_mass = 0.0;      ///< [kg] negative for a put-down
   double added_mass_std = 0.0;  ///< [kg]
   Vector3 com = Vector3::Zero();      ///< [m] p_LoPcm_L: the added body's COM in the link's report frame
   Vector3 com_std = Vector3::Zero();  ///< [m] per axis
   Vector10 added_pi = Vector10::Zero();  ///< the added body's pi in the link's report frame (types.hpp order)
-  double residual_rms = 0.0;    ///< [N m] s of the fit: RMS torque residual per joint after the payload
-  double runner_up_rms = 0.0;   ///< [N m] the same for the next best body (how clearly the link is told apart)
+  double statistic = 0.0;       ///< LR / kappa of the link's change at emission (onset to emission)
+  double threshold = 0.0;       ///< the test's c
+  double kappa = 1.0;           ///< the inflation the statistic was divided by (file comment)
+  /// How much better the link explains the change than the next best one: the difference of their
+  /// drops of the squared normalized error, over kappa (a chi-square-like margin: tens or more is clear)
+  double runner_up_margin = 0.0;
   int runner_up_body = -1;      ///< that body (-1: none)
   std::string runner_up_link;   ///< its name
-  int num_samples = 0;          ///< samples in the fit
+  int num_samples = 0;          ///< samples from the onset to the emission
 };
 
 /// One line: "t = 12.34 s: payload picked up on link7: +2.010 +- 0.050 kg at COM (0.000, 0.010,
-/// 0.080) +- (0.002, 0.002, 0.004) m (onset 12.22 s, settled at 13.34 s)"; "put down" for a negative
+/// 0.080) +- (0.002, 0.002, 0.004) m (onset 12.20 s, settled at 13.34 s)"; "put down" for a negative
 /// added mass, "not settled at" for an event emitted unsettled. t is the detection time.
 std::string PayloadEventText(const PayloadEvent& event);
 
 struct PayloadEventOptions {
-  /// [s] earliest emission after detection. 1 s: the fit must tell the last links apart, which the
-  /// data do only once the arm has moved through a good part of its workspace (on the tests' arm
-  /// and excitation the runner-up's residual separates within a few tenths of a second; 1 s keeps a
-  /// margin for slower motions), and a mass std of a few percent is reached within that time for
-  /// any payload the change detector can see (those are tens of measurement sigmas of torque).
+  /// [s] the test's time step: onsets are block starts, and the tests run at every block's end.
+  /// 0.1 s: a pick-up is placed to 0.1 s, and the per-block work (tests) stays a small part of the
+  /// per-sample work at any rate from 100 Hz up.
+  double block_time = 0.1;
+  /// [s] onsets are searched this far back. 2 s: a change must be found within 2 s.
+  double max_window = 2.0;
+  /// [s] the reference span before an onset: the longest. 10 s: five windows, enough for the
+  /// pre-existing error on every body to be fitted well, short enough to follow a slow drift.
+  double reference_time = 10.0;
+  /// [s] ... and the shortest before any test: 3 s (30 blocks, 6 of five for kappa).
+  double min_reference_time = 3.0;
+  /// [s] the noise scales are measured over this much after arming. 1 s: 10 block RMS values a
+  /// joint, whose median is within ~20 % of the scale (the test is insensitive to that: kappa
+  /// scales with it).
+  double calibration_time = 1.0;
+  /// [s] the detector arms this long after the first sample (the online fit: and once it has
+  /// solved). 2 s: the estimate of 2 s of excitation predicts well enough that its error does not
+  /// dominate s_j; the detector is blind for arm + calibration + reference time (6 s) at the start.
+  double arm_time = 2.0;
+  /// Expected false events per hour of stream at white noise. 1e-3: one per 1000 hours, the
+  /// Bonferroni bound over every test; confirmation lowers it further.
+  double false_alarm_rate = 1e-3;
+  /// [s] a change not confirmed within this long after the test fired is dropped.
+  double confirm_time = 1.0;
+  /// std(added mass) <= this fraction of |added mass| to emit. 0.03: a 10 % error is then more
+  /// than three stds.
+  double mass_std_fraction = 0.03;
+  /// [s] the event is emitted no earlier than this after its onset: 1 s, half the 2 s it must be
+  /// found within; the fit then covers 1 s of motion (a COM to millimetres on the tests' arm where
+  /// 0.2 s gave centimetres) where confirmation alone may come 0.1 s after the onset.
   double min_settle_time = 1.0;
-  /// std(added mass) <= this fraction of |added mass|. 0.02: the mass to 2 % (a 50-sigma change).
-  double mass_std_fraction = 0.02;
-  /// [s] emitted whatever after this long (settled false). 10 s: ten times min_settle_time; a fit
-  /// that does not reach its fraction by then lacks excitation (an arm standing still determines
-  /// only part of a body) and is reported as it is.
-  double max_settle_time = 10.0;
-  /// [s] the fit is solved at most this often (7 or so 10 x 10 solves). 0.1 s: the emission is late by
-  /// at most that.
-  double check_interval = 0.1;
+  /// [s] after confirmation, emitted whatever after this long (settled false).
+  double max_settle_time = 5.0;
 };
 
-/// Watches an OnlineJointEstimator and emits a PayloadEvent per change its detector takes (file
-/// comment). Called by the estimator's thread after every Update().
+/// Watches an OnlineJointEstimator's stream and emits a PayloadEvent per confirmed change (file
+/// comment). Called by the estimator's thread after every Update() of a sample the pipeline passed.
 class PayloadEventDetector {
  public:
   /// Sizes every buffer for `estimator`'s model (the same estimator must be passed to Observe()).
   /// @throws std::invalid_argument naming the option for options out of range (non-finite or
-  /// negative times, check_interval <= 0, min_settle_time > max_settle_time, mass_std_fraction
-  /// outside (0, 1]).
+  /// non-positive times, reference or window shorter than a block, false_alarm_rate outside
+  /// (0, 1e6], mass_std_fraction outside (0, 1]).
   PayloadEventDetector(const OnlineJointEstimator& estimator, const PayloadEventOptions& options = {});
 
-  /// After each estimator.Update(sample), with that sample. Returns the event when one is emitted
-  /// (at most one per call). Allocates only when it returns an event; never throws.
-  /// Precondition: called after every Update (a skipped call may miss the start of an outlier run:
-  /// its onset and pre-change coefficients are then taken at the next call).
+  /// After each estimator.Update(sample), with that sample (outliers of the estimator included: a
+  /// payload's samples may be refused by its gate). Returns the event when one is emitted (at most
+  /// one per call). Allocates only when it returns an event; never throws. A sample of the wrong
+  /// size or with a non-finite value is ignored.
   std::optional<PayloadEvent> Observe(const OnlineJointEstimator& estimator, const JointSample& sample);
 
-  /// A change is detected and its event not yet emitted.
-  bool settling() const { return pending_; }
-  /// Changes seen (events emitted or pending).
-  std::uint64_t changes_seen() const { return changes_seen_; }
+  /// A change is being confirmed or settled.
+  bool settling() const { return phase_ == Phase::kConfirming || phase_ == Phase::kSettling; }
+  /// The tests run (armed, calibrated, enough reference).
+  bool testing() const;
+  /// Changes the test fired on (confirmed or not) and those confirmed.
+  std::uint64_t changes_seen() const { return fired_; }
+  std::uint64_t changes_confirmed() const { return confirmed_; }
+  /// The largest LR / kappa over threshold seen at any test so far (how near the stream came).
+  double largest_ratio() const { return largest_ratio_; }
+  /// The noise scales s_j (zero before calibration) and the best candidate's inflation at the last test.
+  const Eigen::VectorXd& noise() const { return sigma_; }
+  double kappa() const { return kappa_; }
+  double threshold() const { return threshold_; }
   const PayloadEventOptions& options() const { return options_; }
 
  private:
-  struct Candidate {
-    int tree_body = -1;  // its 10 columns of A start at 10 tree_body
-    int body = -1;       // the estimated body reported (the first on that tree body)
-    Matrix10 N = Matrix10::Zero();
-    Vector10 g = Vector10::Zero();
+  enum class Phase { kWaiting, kCalibrating, kArmed, kConfirming, kSettling };
+  struct Block {
+    double t0 = 0.0;
+    int n = 0;
+    Eigen::VectorXd sum_rr, sum_rr_next, sum_tt;  // per joint: r^2 against w_ref and w_next, tau^2
+    std::vector<Matrix10> N;         // per candidate: sum A_B^T S^-2 A_B (independent of w_ref)
+    std::vector<Vector10> g, g_next; // per candidate: sum A_B^T S^-2 r against w_ref, and against w_next
   };
-  // Adds the sample to every candidate's normal equations.
-  void Accumulate(const OnlineJointEstimator& estimator, const JointSample& sample);
-  // Solves every candidate's fit; the event of the best (settled per the rule), or false if no
-  // candidate's N is positive definite.
-  bool Solve(const OnlineJointEstimator& estimator, double t, PayloadEvent* event) const;
-  // The pending change's event (no longer pending): settled as the rule says, false if cut short;
-  // without a solvable fit, body -1, link "(unknown)" and NaN quantities.
-  PayloadEvent Finish(const OnlineJointEstimator& estimator, double t, bool cut_short);
+  struct Fit {  // a change: window less reference on one candidate
+    int candidate = -1;
+    std::int64_t onset = 0, regime = 0;  // block indices (absolute): the onset, the reference's earliest
+    double ratio = -1.0, statistic = 0.0, runner_up = 0.0, kappa = 1.0;
+    int runner_up_candidate = -1;
+    Vector10 delta = Vector10::Zero(), d_ref = Vector10::Zero();
+    Matrix10 cov = Matrix10::Zero();
+  };
+
+  void Arm(const OnlineJointEstimator& estimator, double t);
+  void StartBlock(double t0);
+  void EndBlock(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted);
+  void Calibrate(double t);
+  void Test(double t);
+  void Confirm(double t);
+  void Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted);
+  void Rebase(const OnlineJointEstimator& estimator, double t);
+  Block& BlockAt(std::int64_t index) { return ring_[static_cast<size_t>(index % static_cast<std::int64_t>(ring_.size()))]; }
+  const Block& BlockAt(std::int64_t index) const {
+    return ring_[static_cast<size_t>(index % static_cast<std::int64_t>(ring_.size()))];
+  }
+  // Sums of blocks [from, to) of candidate c.
+  void Sum(int c, std::int64_t from, std::int64_t to, Matrix10* N, Vector10* g) const;
+  // The block sandwich's inflation of candidate c's statistic over reference blocks [from, to).
+  double Inflation(int c, std::int64_t from, std::int64_t to) const;
+  // The best change over onsets in [first_onset, last_onset] and every candidate; false if none tested.
+  bool BestChange(std::int64_t first_onset, std::int64_t last_onset, Fit* best) const;
+  // The change re-fitted on blocks [onset, end) on every candidate, the best kept.
+  void Refit(Fit* fit, std::int64_t end) const;
+  PayloadEvent MakeEvent(const OnlineJointEstimator& estimator, const Fit& fit, double t, bool settled) const;
 
   PayloadEventOptions options_;
-  std::uint64_t last_outliers_ = 0, last_accepted_ = 0, last_numerical_ = 0, last_changes_ = 0, changes_seen_ = 0;
-  bool in_run_ = false;       // the last observed samples were outliers
-  double run_onset_ = 0.0;    // time of this run's first outlier
-  Eigen::VectorXd w_run_;     // w at this run's first outlier
-  // The change being settled.
-  bool pending_ = false;
-  double onset_ = 0.0, detection_ = 0.0, next_check_ = 0.0;
-  Eigen::VectorXd w_before_, residual_;
+  int m_ = 0;
+  std::vector<int> candidates_block_, candidates_body_;  // per candidate: column block, reported body
+  std::vector<Block> ring_;
+  std::int64_t block_ = -1;           // index of the open block (absolute); ring_ holds the last ring_.size()
+  std::int64_t end_ = 0;              // blocks [.., end_) are closed
+  std::int64_t regime_ = 0;           // first block of the current reference model and system
+  std::int64_t no_onset_before_ = 0;  // onsets before it were examined (a refuted change) or are another system
+  std::int64_t calibration_start_ = 0, shadow_start_ = -1;
+  int window_blocks_ = 0, reference_blocks_ = 0, min_reference_blocks_ = 0, calibration_blocks_ = 0;
+  int onsets_ = 0;
+  Phase phase_ = Phase::kWaiting;
+  double first_t_ = 0.0, last_t_ = 0.0;
+  bool seen_ = false;
+  double threshold_ = 0.0, kappa_ = 1.0, largest_ratio_ = 0.0;
+  double reach_ = 0.0;  // [m] the robot's longest segment (body_region.hpp)
+  Eigen::VectorXd w_ref_, w_next_, sigma_, inv_var_, r_, r_next_;
   Eigen::MatrixXd A_;
   TreeWorkspace workspace_;
-  std::vector<Candidate> candidates_;
-  double rss_total_ = 0.0;  // sum of |r_k|^2
-  int num_samples_ = 0;
+  // The change being confirmed / settled.
+  Fit pending_;
+  std::int64_t fired_block_ = 0;
+  double fired_t_ = 0.0, confirmed_t_ = 0.0;
+  std::uint64_t fired_ = 0, confirmed_ = 0;
+  std::vector<double> scratch_;  // the calibration's block RMS values (sized at construction)
+  // s_j: the median block RMS of joint j's error over blocks [from, to) (sum_rr, or sum_rr_next).
+  void SetNoise(std::int64_t from, std::int64_t to, bool next);
 };
+
+/// P(chi2_k > x) for even k (closed form: e^{-x/2} sum_{i < k/2} (x/2)^i / i!).
+double ChiSquareTailEven(int k, double x);
+/// The c with ChiSquareTailEven(k, c) = p (bisection; 0 < p < 1).
+double ChiSquareQuantileEven(int k, double p);
 
 }  // namespace inertial

@@ -190,6 +190,10 @@ class OnlineFit final : public RecursiveEstimator {
   std::uint64_t held_refused() const { return held_refused_; }
   /// Per-joint noise scale s_j of the last solve (zeros before it) [N m or N].
   const Eigen::VectorXd& noise() const { return noise_; }
+  /// Per joint, the gate's scale for the last sample judged: sqrt(s_j^2 + a_j^T C_w a_j), the noise
+  /// plus the variance the estimate's uncertainty adds to that sample's prediction (zeros before
+  /// the first solve) [N m or N].
+  const Eigen::VectorXd& prediction_scale() const { return gate_scale_; }
   bool solved() const { return solved_; }
   int solves() const { return solves_; }
   /// Samples in the statistics (weighted by forgetting: their effective number).
