@@ -140,7 +140,7 @@ PayloadEventDetector::PayloadEventDetector(const OnlineJointEstimator& estimator
   sigma_ = inv_var_ = r_ = r_next_ = Eigen::VectorXd::Zero(m_);
   A_ = Eigen::MatrixXd::Zero(m_, model.num_features());
   workspace_ = model.MakeWorkspace();
-  scratch_.assign(static_cast<size_t>(ring), 0.0);
+  scratch_.assign(static_cast<size_t>(std::max(ring, candidates)), 0.0);
 }
 
 bool PayloadEventDetector::testing() const {
@@ -261,53 +261,70 @@ bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t las
 }
 
 void PayloadEventDetector::Refit(Fit* fit, std::int64_t end) const {
-  // Every candidate again at the fixed onset over everything since. The link is the one whose
-  // change explains the data best: the largest drop of the squared normalized error with bodies
-  // of their own before and after the onset, g_W^T N_W^-1 g_W + g_R^T N_R^-1 g_R (the same data and
-  // weights for every candidate: comparable log-likelihoods). Not LR: its pooled term, the
-  // candidate's no-change fit, differs between candidates. A short window may not yet tell
-  // neighbours apart (a body on link6 acts on joints 1-6 as one on link7 while joint 7 hardly
-  // turns): the choice is made again at every block until the event is emitted.
+  // Every candidate and every onset within kOnsetSearch blocks of the test's again, over
+  // everything since. The change is the (link, onset) whose bodies before and after it explain the
+  // data best: the largest g_W^T N_W^-1 g_W + g_R^T N_R^-1 g_R over the same blocks for every
+  // choice (comparable log-likelihoods; not LR, whose pooled no-change term differs between
+  // candidates). A short window may not yet tell neighbours apart (a body on link6 acts on joints
+  // 1-6 as one on link7 while joint 7 hardly turns), and the test's onset is the one of its largest
+  // ratio, which noise can move by a few blocks: both are chosen again at every block until the
+  // event is emitted.
   //
-  // The onset block holds the change somewhere within it: samples of both systems, which no one
-  // body explains (on the tests' arm, a 2 kg pick-up 0.1 s into its block put link4 ahead of
-  // link7, and the mass 5 % off). The fit leaves it out: the reference ends before it, the window
-  // starts after it (once there is a block after it).
+  // The onset block holds the change somewhere within it, and the block before may too (the
+  // likelihood's onset is the block of the change or the one after it): samples of both systems,
+  // which no one body explains (on the tests' arm, a 2 kg pick-up 0.1 s into its block put link4
+  // ahead of link7, and the mass 5 % off). The fit of the change leaves both out: the reference
+  // ends before them, the window starts after them.
+  constexpr int kOnsetSearch = 5;
   const std::int64_t ref_lo = std::max(fit->regime, fit->onset - reference_blocks_);
-  const std::int64_t window_lo = end > fit->onset + 1 ? fit->onset + 1 : fit->onset;
-  double best = -1.0, second = -1.0;
-  int second_candidate = -1;
+  const std::int64_t first = std::max(ref_lo + 2, fit->onset - kOnsetSearch);
+  const std::int64_t last = std::min(end - 2, fit->onset + kOnsetSearch);
+  double best = -1.0;
+  int best_candidate = -1;
+  std::int64_t best_onset = fit->onset;
+  std::vector<double>& per_candidate = scratch_;  // each candidate's best, for the runner-up
   const int candidates = static_cast<int>(candidates_block_.size());
   for (int c = 0; c < candidates; ++c) {
-    Matrix10 NW, NR;
-    Vector10 gW, gR, dW, dR;
-    Sum(c, window_lo, end, &NW, &gW);
-    Sum(c, ref_lo, fit->onset, &NR, &gR);
-    const double explained = Explained(NW, gW, &dW) + Explained(NR, gR, &dR);
-    if (std::getenv("INERTIAL_DEBUG_PAYLOAD2")) {
-      std::fprintf(stderr, "    refit c %d explained %.1f TW %.1f TR %.1f mass %.3f\n", c, explained, Explained(NW, gW),
-                   Explained(NR, gR), (dW - dR)[0]);
-    }
-    if (explained > best) {
-      if (best >= 0) {
-        second = best;
-        second_candidate = fit->candidate;
+    per_candidate[static_cast<size_t>(c)] = -1.0;
+    for (std::int64_t b0 = first; b0 <= last; ++b0) {
+      Matrix10 NW, NR;
+      Vector10 gW, gR;
+      Sum(c, b0, end, &NW, &gW);
+      Sum(c, ref_lo, b0, &NR, &gR);
+      const double explained = Explained(NW, gW) + Explained(NR, gR);
+      per_candidate[static_cast<size_t>(c)] = std::max(per_candidate[static_cast<size_t>(c)], explained);
+      if (explained > best) {
+        best = explained;
+        best_candidate = c;
+        best_onset = b0;
       }
-      best = explained;
-      const double phi = Inflation(c, ref_lo, fit->onset);
-      fit->candidate = c;
-      fit->kappa = phi;
-      fit->statistic = std::max(0.0, explained - Explained(NW + NR, gW + gR)) / phi;
-      fit->delta = dW - dR;
-      fit->d_ref = dR;
-      fit->cov = phi * (RegularizedInverse(NW) + RegularizedInverse(NR));
-    } else if (explained > second) {
-      second = explained;
+    }
+  }
+  if (best_candidate < 0) return;  // no onset to choose from (cannot happen after min_settle_time)
+  double second = -1.0;
+  int second_candidate = -1;
+  for (int c = 0; c < candidates; ++c) {
+    if (c != best_candidate && per_candidate[static_cast<size_t>(c)] > second) {
+      second = per_candidate[static_cast<size_t>(c)];
       second_candidate = c;
     }
   }
+  const int c = best_candidate;
+  const std::int64_t window_lo = std::min(best_onset + 1, end - 1), ref_hi = std::max(ref_lo + 1, best_onset - 1);
+  Matrix10 NW, NR;
+  Vector10 gW, gR, dW, dR;
+  Sum(c, window_lo, end, &NW, &gW);
+  Sum(c, ref_lo, ref_hi, &NR, &gR);
+  const double phi = Inflation(c, ref_lo, ref_hi);
+  fit->candidate = c;
+  fit->onset = best_onset;
+  fit->kappa = phi;
+  fit->statistic = std::max(0.0, Explained(NW, gW, &dW) + Explained(NR, gR, &dR) - Explained(NW + NR, gW + gR)) / phi;
+  fit->delta = dW - dR;
+  fit->d_ref = dR;
+  fit->cov = phi * (RegularizedInverse(NW) + RegularizedInverse(NR));
   // The margin over the runner-up: how much less the next best link explains, over the inflation.
-  fit->runner_up = second >= 0 ? (best - second) / fit->kappa : 0.0;
+  fit->runner_up = second >= 0 ? (best - second) / phi : 0.0;
   fit->runner_up_candidate = second_candidate;
 }
 

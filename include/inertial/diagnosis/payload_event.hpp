@@ -234,7 +234,7 @@ class PayloadEventDetector {
   std::int64_t fired_block_ = 0;
   double fired_t_ = 0.0, confirmed_t_ = 0.0;
   std::uint64_t fired_ = 0, confirmed_ = 0;
-  std::vector<double> scratch_;  // the calibration's block RMS values (sized at construction)
+  mutable std::vector<double> scratch_;  // block RMS values, candidates' likelihoods (sized at construction)
   // s_j: the median block RMS of joint j's error over blocks [from, to) (sum_rr, or sum_rr_next).
   void SetNoise(std::int64_t from, std::int64_t to, bool next);
 };
