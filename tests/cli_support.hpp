@@ -126,6 +126,14 @@ inline std::string FitToUrdf(std::vector<std::string> command, const std::string
   return out;
 }
 
+// The real KUKA LWR4+ measurements (../shared/data/kuka_lwr4 beside the source tree: its URDF and
+// measurements_{1,2}.csv), or "" where they are absent (the caller skips, saying so).
+inline std::string SharedKukaData() {
+  const char* source = std::getenv("INERTIAL_SOURCE_DIR");
+  const std::string data = std::string(source != nullptr ? source : ".") + "/../shared/data/kuka_lwr4";
+  return fs::exists(data + "/measurements_1.csv") && fs::exists(data + "/kuka_lwr4.urdf") ? data : "";
+}
+
 inline bool Contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;
 }

@@ -13,6 +13,7 @@
 # EliminationEqualsTheExplicitCostAtTheBestGains, estimation.NoAllocation.JointEstimatorsOnALegAndAnArm
 # (the no-allocation proof on Arm).
 set(inertial_long_tests
+  diagnosis.PayloadEvent.CleanStreamsGiveNoEventAndNoAllocation
   diagnosis.OnlineDiagnosis.CleanStreamGetsNoSuggestion
   diagnosis.OnlineDiagnosis.CoulombFrictionOnTheKnee
   diagnosis.OnlineDiagnosis.TorqueOffsetOnTheKneeTheLinksAbsorb
@@ -65,6 +66,8 @@ set(inertial_long_tests
   tools.GradientLaw.WithinOneAndAHalfTimesTheBatchFitOnSimulatedRobots
   tools.OnlineWithoutQdd.SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd
   tools.PayloadCli.AgainstTheModelAndFromTheDifference
+  tools.PayloadEvents.NoEventOnTenCleanLogs
+  tools.PayloadEvents.PickAndPlaceOnTheArmWithAndWithoutQdd
   tools.ReplayDiagnose.CleanStreamsGetNoSuggestion
   tools.ValidateCli.InertialdWritesItsModelOnASignalAndAtExit
   tools.ValidateCli.ReportJsonAndPredictionsFollowTheContracts

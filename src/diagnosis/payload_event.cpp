@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -388,16 +387,11 @@ void PayloadEventDetector::SetNoise(std::int64_t from, std::int64_t to, bool nex
   }
 }
 
-void PayloadEventDetector::Calibrate(double t) {
+void PayloadEventDetector::Calibrate() {
   if (end_ - calibration_start_ < calibration_blocks_) return;
   SetNoise(calibration_start_, end_, false);
   phase_ = Phase::kArmed;
   regime_ = no_onset_before_ = end_;
-  if (std::getenv("INERTIAL_DEBUG_PAYLOAD")) {
-    std::fprintf(stderr, "armed at %.2f, sigma", t);
-    for (int j = 0; j < m_; ++j) std::fprintf(stderr, " %.4f", sigma_[j]);
-    std::fprintf(stderr, " threshold %.1f\n", threshold_);
-  }
 }
 
 void PayloadEventDetector::Test(double t) {
@@ -406,10 +400,6 @@ void PayloadEventDetector::Test(double t) {
   if (!BestChange(first, end_ - 1, &best)) return;
   kappa_ = best.kappa;
   largest_ratio_ = std::max(largest_ratio_, best.ratio);
-  if (std::getenv("INERTIAL_DEBUG_PAYLOAD") && best.ratio > 0.3) {
-    std::fprintf(stderr, "t %.2f best %d onset %.2f ratio %.2f phi %.2f\n", t, best.candidate, BlockAt(best.onset).t0,
-                 best.ratio, best.kappa);
-  }
   if (best.ratio <= 1.0) return;
   pending_ = best;
   phase_ = Phase::kConfirming;
@@ -428,9 +418,6 @@ void PayloadEventDetector::Confirm(double t) {
   const double gain = 2.0 * (gn - Nn * pending_.d_ref).dot(d) - expected;
   const double std = 2.0 * std::sqrt(pending_.kappa * std::max(0.0, expected));
   constexpr double kSigmas = 3.0;
-  if (std::getenv("INERTIAL_DEBUG_PAYLOAD")) {
-    std::fprintf(stderr, "  confirm t %.2f expected %.1f gain %.1f std %.1f\n", t, expected, gain, std);
-  }
   if (expected > 0 && gain >= 0.5 * expected && gain >= kSigmas * std) {
     phase_ = Phase::kSettling;
     confirmed_t_ = t;
@@ -463,9 +450,6 @@ void PayloadEventDetector::Settle(const OnlineJointEstimator& estimator, double 
   constexpr double kUnsettledMassSigmas = 10.0;
   if (!settled && !(std::abs(dm) >= kUnsettledMassSigmas * dm_std && within_reach)) {
     no_onset_before_ = fired_block_;
-    if (std::getenv("INERTIAL_DEBUG_PAYLOAD")) {
-      std::fprintf(stderr, "dropped at %.2f: mass %.4f +- %.4f, within reach %d\n", t, dm, dm_std, within_reach);
-    }
     return;
   }
   *emitted = MakeEvent(estimator, pending_, t, settled);
@@ -485,8 +469,7 @@ void PayloadEventDetector::Settle(const OnlineJointEstimator& estimator, double 
 // every min_reference_time; after a payload event, the estimate (which mixes the samples before
 // and after the change) is taken only once it predicts better than the reference that took the
 // change; a shadow is decided only while no change is being confirmed or settled.
-void PayloadEventDetector::Rebase(const OnlineJointEstimator& estimator, double t) {
-  (void)t;
+void PayloadEventDetector::Rebase(const OnlineJointEstimator& estimator) {
   if (phase_ != Phase::kArmed) {
     shadow_start_ = -1;
     return;
@@ -510,7 +493,6 @@ void PayloadEventDetector::Rebase(const OnlineJointEstimator& estimator, double 
     SetNoise(shadow_start_, end_, true);
     regime_ = std::max(regime_, shadow_start_);
     no_onset_before_ = std::max(no_onset_before_, regime_);
-    if (std::getenv("INERTIAL_DEBUG_PAYLOAD")) { std::fprintf(stderr, "rebase at %.2f (%.1f < %.1f) sigma", t, next, ref); for (int j = 0; j < m_; ++j) std::fprintf(stderr, " %.4f", sigma_[j]); std::fprintf(stderr, "\n"); }
   }
   shadow_start_ = -1;
 }
@@ -519,13 +501,13 @@ void PayloadEventDetector::EndBlock(const OnlineJointEstimator& estimator, doubl
                                     std::optional<PayloadEvent>* emitted) {
   end_ = block_ + 1;
   switch (phase_) {
-    case Phase::kCalibrating: Calibrate(t); return;
+    case Phase::kCalibrating: Calibrate(); return;
     case Phase::kArmed: Test(t); break;
     case Phase::kConfirming: Confirm(t); break;
     default: break;
   }
   if (phase_ == Phase::kSettling) Settle(estimator, t, emitted);
-  Rebase(estimator, t);
+  Rebase(estimator);
 }
 
 std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstimator& estimator,

@@ -191,11 +191,11 @@ class PayloadEventDetector {
   void Arm(const OnlineJointEstimator& estimator, double t);
   void StartBlock(double t0);
   void EndBlock(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted);
-  void Calibrate(double t);
+  void Calibrate();
   void Test(double t);
   void Confirm(double t);
   void Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted);
-  void Rebase(const OnlineJointEstimator& estimator, double t);
+  void Rebase(const OnlineJointEstimator& estimator);
   Block& BlockAt(std::int64_t index) { return ring_[static_cast<size_t>(index % static_cast<std::int64_t>(ring_.size()))]; }
   const Block& BlockAt(std::int64_t index) const {
     return ring_[static_cast<size_t>(index % static_cast<std::int64_t>(ring_.size()))];
