@@ -179,9 +179,10 @@ void PayloadEventDetector::Sum(int c, std::int64_t from, std::int64_t to, Matrix
 // The sandwich: with the reference's fit d = N_R^-1 g_R and groups G of consecutive blocks, the
 // groups' gradients u_G = g_G - N_G d have E[sum_G u_G^T M u_G] = phi (tr(M N_R) - sum_G tr((M N_G)^2))
 // (M = N_R^-1) when each group's error has covariance phi N_G and groups are independent: phi is
-// 1 for white noise of the scales s_j, larger for correlated or larger errors. Groups of 1, 5 and
-// 10 blocks (0.1, 0.5, 1 s) cover correlation times up to a few tenths of a second; the largest
-// estimate (of those with at least 3 groups) is taken.
+// 1 for white noise of the scales s_j, larger for correlated or larger errors. Groups of 5 and 10
+// blocks (0.5 and 1 s) cover correlation times up to a few tenths of a second (shorter ones
+// included: single blocks would only give a less noisy estimate of those, at five times the cost,
+// the per-block work's largest part); the larger estimate (of those with at least 3 groups) is taken.
 double PayloadEventDetector::Inflation(int c, std::int64_t from, std::int64_t to) const {
   Matrix10 NR;
   Vector10 gR;
@@ -190,7 +191,7 @@ double PayloadEventDetector::Inflation(int c, std::int64_t from, std::int64_t to
   const Vector10 d = M * gR;
   const double rank = (M * NR).trace();
   double phi = 0.0;
-  for (const int group : {1, 5, 10}) {
+  for (const int group : {5, 10}) {
     double num = 0, den = rank;
     int groups = 0;
     for (std::int64_t hi = to; hi - group >= from; hi -= group) {
@@ -220,6 +221,7 @@ bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t las
     const double phi = Inflation(c, std::max(regime_, first_onset - reference_blocks_), first_onset);
     Fit mine;  // this candidate's best onset
     mine.kappa = phi;
+    mine.regime = regime_;
     Matrix10 NW, NR;
     Vector10 gW, gR;
     // Window [last_onset, end); reference [max(regime, last_onset - R), last_onset).
@@ -240,23 +242,29 @@ bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t las
           ref_lo = lo;
         }
       }
-      Vector10 dW, dR;
-      const double lr = Explained(NW, gW, &dW) + Explained(NR, gR, &dR) - Explained(NW + NR, gW + gR);
+      const double lr = Explained(NW, gW) + Explained(NR, gR) - Explained(NW + NR, gW + gR);
       const double statistic = std::max(0.0, lr) / phi;
       if (statistic / threshold_ > mine.ratio) {
         mine.ratio = statistic / threshold_;
         mine.statistic = statistic;
         mine.candidate = c;
         mine.onset = b0;
-        mine.delta = dW - dR;
-        mine.d_ref = dR;
-        mine.cov = phi * (RegularizedInverse(NW) + RegularizedInverse(NR));
       }
     }
     if (mine.ratio > best->ratio) *best = mine;
   }
-  best->regime = regime_;
-  return best->candidate >= 0;
+  if (best->candidate < 0) return false;
+  // The change at the best (candidate, onset): its bodies and covariance.
+  Matrix10 NW, NR;
+  Vector10 gW, gR, dW, dR;
+  Sum(best->candidate, best->onset, end, &NW, &gW);
+  Sum(best->candidate, std::max(regime_, best->onset - reference_blocks_), best->onset, &NR, &gR);
+  Explained(NW, gW, &dW);
+  Explained(NR, gR, &dR);
+  best->delta = dW - dR;
+  best->d_ref = dR;
+  best->cov = best->kappa * (RegularizedInverse(NW) + RegularizedInverse(NR));
+  return true;
 }
 
 void PayloadEventDetector::Refit(Fit* fit, std::int64_t end) const {
@@ -535,9 +543,16 @@ std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstim
     StartBlock(t - std::fmod(t - t0, options_.block_time));
   }
 
-  estimator.model().Features(s.q, s.qd, s.qdd, &workspace_, A_);
+  // The sample's features: the estimator's own when it computed them for this sample (qdd
+  // measured), else from the sample (its qdd derived by the stream's preprocessing).
+  const Eigen::MatrixXd* features = s.qdd_measured ? estimator.torque_features() : nullptr;
+  if (features == nullptr) {
+    estimator.model().Features(s.q, s.qd, s.qdd, &workspace_, A_);
+    features = &A_;
+  }
+  const Eigen::MatrixXd& A = *features;
   r_ = s.tau;
-  r_.noalias() -= A_ * w_ref_;
+  r_.noalias() -= A * w_ref_;
   Block& b = BlockAt(block_);
   ++b.n;
   b.sum_rr += r_.cwiseAbs2();
@@ -546,7 +561,7 @@ std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstim
   const bool shadow = shadow_start_ >= 0;
   if (shadow) {
     r_next_ = s.tau;
-    r_next_.noalias() -= A_ * w_next_;
+    r_next_.noalias() -= A * w_next_;
     b.sum_rr_next += r_next_.cwiseAbs2();
   }
   const int candidates = static_cast<int>(candidates_block_.size());
@@ -556,7 +571,7 @@ std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstim
     Vector10& g = b.g[static_cast<size_t>(c)];
     Vector10& g_next = b.g_next[static_cast<size_t>(c)];
     for (int i = 0; i < m_; ++i) {
-      const auto a = A_.row(i).segment<10>(col);
+      const auto a = A.row(i).segment<10>(col);
       if (a.isZero(0.0)) continue;  // a joint the body does not load
       N.noalias() += inv_var_[i] * a.transpose() * a;
       g.noalias() += (inv_var_[i] * r_[i]) * a.transpose();

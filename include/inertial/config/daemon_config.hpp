@@ -26,7 +26,7 @@ struct DaemonOptions {
   /// empty: no diagnosis.
   std::string diagnosis_channel = "INERTIAL_DIAGNOSIS";
   double diagnosis_period_s = 5.0;
-  /// Robot mode, Gauss-Newton: payloads picked up or put down (payload_event.hpp) published as
+  /// Robot mode, any estimator: payloads picked up or put down (payload_event.hpp) published as
   /// inertial.payload_event_t on this channel and logged; empty: none.
   std::string payload_channel = "INERTIAL_PAYLOAD_EVENT";
   JointMessageFormat format;

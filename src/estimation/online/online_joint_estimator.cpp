@@ -101,6 +101,7 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   const int n = model_.num_dofs();
   UpdateStatus status = UpdateStatus::kAccepted;
   const bool momentum = !s.qdd_measured;
+  torque_features_ = false;
   if (s.q.size() != n || s.qd.size() != n || (!momentum && s.qdd.size() != n) || s.tau.size() != n) {
     status = UpdateStatus::kWrongSize;
   } else if (!s.q.allFinite() || !s.qd.allFinite() || (!momentum && !s.qdd.allFinite()) || !std::isfinite(s.t)) {
@@ -132,6 +133,7 @@ UpdateStatus OnlineJointEstimator::Update(const JointSample& s) {
   } else {
     momentum_.Reset();  // rows without qdd start again after a sample with it
     model_.Features(s.q, s.qd, s.qdd, &workspace_, A_);
+    torque_features_ = true;
     y_ = s.tau;
   }
   tau_hat_.noalias() = A_ * w_;

@@ -118,6 +118,10 @@ class OnlineJointEstimator {
   /// low-passed at the momentum cutoff (the stream's accel_cutoff_hz), the filter the preprocessing
   /// stage derives qdd with, so that a candidate's feature of the derived qdd (armature) matches it.
   const Eigen::VectorXd& stream_residual() const { return stream_residual_; }
+  /// The features A(q, qd, qdd) of the last sample given when its qdd was measured (its torque's
+  /// row); null when that sample gave a momentum row or was refused before its features were
+  /// computed. For consumers of the same sample (the payload events), which need not compute them again.
+  const Eigen::MatrixXd* torque_features() const { return torque_features_ ? &A_ : nullptr; }
 
  private:
   RobotDynamics model_;
@@ -128,6 +132,7 @@ class OnlineJointEstimator {
   MomentumRows momentum_;
   Eigen::MatrixXd A_;
   Eigen::VectorXd w_, y_, tau_hat_, residual_, stream_residual_, midpoint_residual_;
+  bool torque_features_ = false;  ///< A_ holds the last sample's A(q, qd, qdd)
 };
 
 }  // namespace inertial
