@@ -124,6 +124,7 @@ PayloadEventDetector::PayloadEventDetector(const OnlineJointEstimator& estimator
                    static_cast<int>(std::ceil((o.max_settle_time + o.min_settle_time) / o.block_time)) +
                    calibration_blocks_ + 4;
   const int candidates = static_cast<int>(candidates_block_.size());
+  candidate_regime_.assign(static_cast<size_t>(candidates), 0);
   ring_.resize(static_cast<size_t>(ring));
   for (Block& b : ring_) {
     b.sum_rr = b.sum_rr_next = b.sum_tt = Eigen::VectorXd::Zero(m_);
@@ -143,7 +144,11 @@ PayloadEventDetector::PayloadEventDetector(const OnlineJointEstimator& estimator
 }
 
 bool PayloadEventDetector::testing() const {
-  return phase_ == Phase::kArmed && end_ - regime_ >= min_reference_blocks_;
+  if (phase_ != Phase::kArmed) return false;
+  for (int c = 0; c < static_cast<int>(candidates_block_.size()); ++c) {
+    if (end_ - Regime(c) >= min_reference_blocks_) return true;
+  }
+  return false;
 }
 
 void PayloadEventDetector::StartBlock(double t0) {
@@ -177,7 +182,7 @@ void PayloadEventDetector::Sum(int c, std::int64_t from, std::int64_t to, Matrix
 }
 
 // The sandwich: with the reference's fit d = N_R^-1 g_R and groups G of consecutive blocks, the
-// groups' gradients u_G = g_G - N_G d have E[sum_G u_G^T M u_G] = phi (tr(M N_R) - sum_G tr((M N_G)^2))
+// groups' gradients u_G = g_G - N_G d have E[sum_G u_G^T M u_G] = phi sum_G (tr(M N_G) - tr((M N_G)^2))
 // (M = N_R^-1) when each group's error has covariance phi N_G and groups are independent: phi is
 // 1 for white noise of the scales s_j, larger for correlated or larger errors. Groups of 5 and 10
 // blocks (0.5 and 1 s) cover correlation times up to a few tenths of a second (shorter ones
@@ -189,10 +194,9 @@ double PayloadEventDetector::Inflation(int c, std::int64_t from, std::int64_t to
   Sum(c, from, to, &NR, &gR);
   const Matrix10 M = RegularizedInverse(NR);
   const Vector10 d = M * gR;
-  const double rank = (M * NR).trace();
   double phi = 0.0;
   for (const int group : {5, 10}) {
-    double num = 0, den = rank;
+    double num = 0, den = 0;
     int groups = 0;
     for (std::int64_t hi = to; hi - group >= from; hi -= group) {
       Matrix10 NG;
@@ -201,32 +205,40 @@ double PayloadEventDetector::Inflation(int c, std::int64_t from, std::int64_t to
       const Vector10 u = gG - NG * d;
       num += u.dot(M * u);
       const Matrix10 MN = M * NG;
-      den -= (MN * MN).trace();
+      den += MN.trace() - (MN * MN).trace();
       ++groups;
     }
     if (groups < 3 || !(den > 0)) continue;
     phi = std::max(phi, num / den);
   }
-  // Floored at 0.5: s_j is re-measured at every re-base, so phi is near 1 for white noise; an
-  // estimate far below it comes from few groups, and would inflate the statistic.
+  // Floored at 0.5: an estimate far below 1 says s_j (measured at arming, against a reference
+  // that was worse) is too large; it also comes from few groups, and would inflate the statistic.
+  // With fewer than 3 groups (a short reference), 1.
   return phi > 0 && std::isfinite(phi) ? std::max(phi, 0.5) : 1.0;
 }
 
-bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t last_onset, Fit* best) const {
-  if (first_onset > last_onset) return false;
+std::int64_t PayloadEventDetector::Regime(int c) const {
+  return std::max(regime_, candidate_regime_[static_cast<size_t>(c)]);
+}
+
+bool PayloadEventDetector::BestChange(std::int64_t last_onset, Fit* best) const {
   const std::int64_t end = end_;
   const int candidates = static_cast<int>(candidates_block_.size());
   for (int c = 0; c < candidates; ++c) {
+    const std::int64_t regime = Regime(c);
+    const std::int64_t first_onset =
+        std::max({end - window_blocks_, regime + min_reference_blocks_, no_onset_before_});
+    if (first_onset > last_onset) continue;
     // The inflation over the blocks before every window tested.
-    const double phi = Inflation(c, std::max(regime_, first_onset - reference_blocks_), first_onset);
+    const double phi = Inflation(c, std::max(regime, first_onset - reference_blocks_), first_onset);
     Fit mine;  // this candidate's best onset
     mine.kappa = phi;
-    mine.regime = regime_;
+    mine.regime = regime;
     Matrix10 NW, NR;
     Vector10 gW, gR;
     // Window [last_onset, end); reference [max(regime, last_onset - R), last_onset).
     Sum(c, last_onset, end, &NW, &gW);
-    std::int64_t ref_lo = std::max(regime_, last_onset - reference_blocks_);
+    std::int64_t ref_lo = std::max(regime, last_onset - reference_blocks_);
     Sum(c, ref_lo, last_onset, &NR, &gR);
     for (std::int64_t b0 = last_onset; b0 >= first_onset; --b0) {
       if (b0 != last_onset) {  // the onset one block earlier: block b0 leaves the reference for the window
@@ -235,7 +247,7 @@ bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t las
         gW += moved.g[static_cast<size_t>(c)];
         NR -= moved.N[static_cast<size_t>(c)];
         gR -= moved.g[static_cast<size_t>(c)];
-        const std::int64_t lo = std::max(regime_, b0 - reference_blocks_);
+        const std::int64_t lo = std::max(regime, b0 - reference_blocks_);
         if (lo < ref_lo) {  // one older block joins the reference
           NR += BlockAt(lo).N[static_cast<size_t>(c)];
           gR += BlockAt(lo).g[static_cast<size_t>(c)];
@@ -248,17 +260,18 @@ bool PayloadEventDetector::BestChange(std::int64_t first_onset, std::int64_t las
         mine.ratio = statistic / threshold_;
         mine.statistic = statistic;
         mine.candidate = c;
-        mine.onset = b0;
+        mine.onset = mine.test_onset = b0;
       }
     }
     if (mine.ratio > best->ratio) *best = mine;
   }
   if (best->candidate < 0) return false;
+  best->window_lo = best->onset;
   // The change at the best (candidate, onset): its bodies and covariance.
   Matrix10 NW, NR;
   Vector10 gW, gR, dW, dR;
   Sum(best->candidate, best->onset, end, &NW, &gW);
-  Sum(best->candidate, std::max(regime_, best->onset - reference_blocks_), best->onset, &NR, &gR);
+  Sum(best->candidate, std::max(best->regime, best->onset - reference_blocks_), best->onset, &NR, &gR);
   Explained(NW, gW, &dW);
   Explained(NR, gR, &dR);
   best->delta = dW - dR;
@@ -282,10 +295,12 @@ void PayloadEventDetector::Refit(Fit* fit, std::int64_t end) const {
   // which no one body explains (on the tests' arm, a 2 kg pick-up 0.1 s into its block put link4
   // ahead of link7, and the mass 5 % off). The fit of the change leaves both out: the reference
   // ends before them, the window starts after them.
-  constexpr int kOnsetSearch = 5;
-  const std::int64_t ref_lo = std::max(fit->regime, fit->onset - reference_blocks_);
-  const std::int64_t first = std::max(ref_lo + 2, fit->onset - kOnsetSearch);
-  const std::int64_t last = std::min(end - 2, fit->onset + kOnsetSearch);
+  // Every candidate over the same blocks: the reference starts where every candidate's does.
+  std::int64_t regime = fit->regime;
+  for (int c = 0; c < static_cast<int>(candidates_block_.size()); ++c) regime = std::max(regime, Regime(c));
+  const std::int64_t ref_lo = std::max(regime, fit->test_onset - reference_blocks_);
+  const std::int64_t first = std::max(ref_lo + 2, fit->test_onset - kOnsetSearch);
+  const std::int64_t last = std::min(end - 2, fit->test_onset + kOnsetSearch);
   double best = -1.0;
   int best_candidate = -1;
   std::int64_t best_onset = fit->onset;
@@ -325,6 +340,7 @@ void PayloadEventDetector::Refit(Fit* fit, std::int64_t end) const {
   const double phi = Inflation(c, ref_lo, ref_hi);
   fit->candidate = c;
   fit->onset = best_onset;
+  fit->window_lo = window_lo;
   fit->kappa = phi;
   fit->statistic = std::max(0.0, Explained(NW, gW, &dW) + Explained(NR, gR, &dR) - Explained(NW + NR, gW + gR)) / phi;
   fit->delta = dW - dR;
@@ -376,7 +392,7 @@ PayloadEvent PayloadEventDetector::MakeEvent(const OnlineJointEstimator& estimat
   return ev;
 }
 
-void PayloadEventDetector::SetNoise(std::int64_t from, std::int64_t to, bool next) {
+void PayloadEventDetector::SetNoise(std::int64_t from, std::int64_t to) {
   // s_j: the median block RMS, floored at 1e-3 of the torque's RMS (as identify floors its noise
   // scales) and 1e-9.
   const int count = static_cast<int>(to - from);
@@ -384,7 +400,7 @@ void PayloadEventDetector::SetNoise(std::int64_t from, std::int64_t to, bool nex
     double tt = 0, n = 0;
     for (int k = 0; k < count; ++k) {
       const Block& b = BlockAt(from + k);
-      scratch_[static_cast<size_t>(k)] = b.n > 0 ? std::sqrt((next ? b.sum_rr_next : b.sum_rr)[j] / b.n) : 0.0;
+      scratch_[static_cast<size_t>(k)] = b.n > 0 ? std::sqrt(b.sum_rr[j] / b.n) : 0.0;
       tt += b.sum_tt[j];
       n += b.n;
     }
@@ -397,15 +413,15 @@ void PayloadEventDetector::SetNoise(std::int64_t from, std::int64_t to, bool nex
 
 void PayloadEventDetector::Calibrate() {
   if (end_ - calibration_start_ < calibration_blocks_) return;
-  SetNoise(calibration_start_, end_, false);
+  SetNoise(calibration_start_, end_);
   phase_ = Phase::kArmed;
   regime_ = no_onset_before_ = end_;
+  std::fill(candidate_regime_.begin(), candidate_regime_.end(), end_);
 }
 
 void PayloadEventDetector::Test(double t) {
-  const std::int64_t first = std::max({end_ - window_blocks_, regime_ + min_reference_blocks_, no_onset_before_});
   Fit best;
-  if (!BestChange(first, end_ - 1, &best)) return;
+  if (!BestChange(end_ - 1, &best)) return;
   kappa_ = best.kappa;
   largest_ratio_ = std::max(largest_ratio_, best.ratio);
   if (best.ratio <= 1.0) return;
@@ -436,7 +452,8 @@ void PayloadEventDetector::Confirm(double t) {
   }
 }
 
-void PayloadEventDetector::Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted) {
+void PayloadEventDetector::Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted,
+                                  bool force) {
   Refit(&pending_, end_);
   const RobotDynamics& model = estimator.model();
   const Matrix10 L = ReportFrameMap(model.bodies()[candidates_body_[static_cast<size_t>(pending_.candidate)]]);
@@ -448,24 +465,37 @@ void PayloadEventDetector::Settle(const OnlineJointEstimator& estimator, double 
   // effect's region: what a link can hold, a gripped object included).
   const bool within_reach = !(reach_ > 0.0) || (dm != 0.0 && (dpi.segment<3>(pi_index::kHx) / dm).norm() <= reach_);
   const bool settled = dm_std <= options_.mass_std_fraction * std::abs(dm) && within_reach;
-  if (t - BlockAt(pending_.onset).t0 < options_.min_settle_time) return;
-  if (!settled && t - confirmed_t_ < options_.max_settle_time) return;
+  // A change whose added mass the data cannot tell from zero once min_settle_time has passed is
+  // not a payload (a drift of the reference, a change of friction or of a sensor, a body on a link
+  // whose mass the torques do not show): dropped at once, so that the test runs again.
+  constexpr double kMassSigmas = 3.0;
+  const bool massless = !(std::abs(dm) >= kMassSigmas * dm_std);
+  if (!force && t - BlockAt(pending_.onset).t0 < options_.min_settle_time) return;
+  if (!force && !settled && !massless && t - confirmed_t_ < options_.max_settle_time) return;
   phase_ = Phase::kArmed;
-  // Not settled by max_settle_time: reported only as a clear mass change (its mass to 10 %, a
-  // 10-sigma change) within reach. Else no event: a change whose mass the data cannot tell, or
-  // whose mass sits where no payload of that link can be, is a drift of the reference or a change
-  // of something else (friction, a sensor), not a body picked up.
+  // Not settled by max_settle_time (or the stream ended or broke off): reported only as a clear
+  // mass change (its mass to 10 %, a 10-sigma change) within reach. Else no event.
   constexpr double kUnsettledMassSigmas = 10.0;
   if (!settled && !(std::abs(dm) >= kUnsettledMassSigmas * dm_std && within_reach)) {
     no_onset_before_ = fired_block_;
     return;
   }
   *emitted = MakeEvent(estimator, pending_, t, settled);
-  // The reference model takes the change (the body's 10 coefficients), and the next reference
-  // starts now: the blocks since the onset hold errors against the old one. A shadow reference
-  // begun before the change is dropped.
-  w_ref_.segment<10>(10 * candidates_block_[static_cast<size_t>(pending_.candidate)]) += pending_.delta;
-  regime_ = no_onset_before_ = end_;
+  // The reference model takes the change (the link's 10 coefficients += delta). The link's own
+  // gradients since the change are corrected exactly (g_b -= N_b delta: its blocks' N are those of
+  // its columns), so its next change (a put-down) is tested against a reference from the change
+  // on; the other links' gradients would need the cross terms of their columns with this link's,
+  // which are not kept: their references start now. A shadow begun before the change is dropped.
+  const int c = pending_.candidate;
+  w_ref_.segment<10>(10 * candidates_block_[static_cast<size_t>(c)]) += pending_.delta;
+  for (std::int64_t b = pending_.window_lo; b < end_; ++b) {
+    Block& block = BlockAt(b);
+    block.g[static_cast<size_t>(c)].noalias() -= block.N[static_cast<size_t>(c)] * pending_.delta;
+  }
+  for (int k = 0; k < static_cast<int>(candidate_regime_.size()); ++k) {
+    candidate_regime_[static_cast<size_t>(k)] = k == c ? pending_.window_lo : end_;
+  }
+  no_onset_before_ = pending_.window_lo;
   shadow_start_ = -1;
 }
 
@@ -496,26 +526,58 @@ void PayloadEventDetector::Rebase(const OnlineJointEstimator& estimator) {
   if (next < ref) {
     for (std::int64_t b = shadow_start_; b < end_; ++b) BlockAt(b).g.swap(BlockAt(b).g_next);
     w_ref_.swap(w_next_);
-    // The noise scales of the new reference's errors: the weights of the blocks to come (each
-    // block's N and g share their weights, so blocks of different weights sum to a weighted fit).
-    SetNoise(shadow_start_, end_, true);
+    // s_j stay those of arming: the reference span's blocks and the window's then share their
+    // weights, and the sandwich's phi (below 1 when the new reference predicts better than s_j
+    // says) scales the statistic to the errors as they are.
     regime_ = std::max(regime_, shadow_start_);
     no_onset_before_ = std::max(no_onset_before_, regime_);
   }
   shadow_start_ = -1;
 }
 
+// While a change is confirmed or settled the tests go on for onsets after the ones Refit may
+// choose: a later change whose ratio beats the pending one's takes its place (the pending one is
+// dropped, no event). Without it a weak firing (a drift of the reference, confirmed by the samples
+// after it, whose mass then never settles) would hold the detector while a real put-down goes by,
+// and Refit would give that put-down the weak firing's onset and link.
+bool PayloadEventDetector::Supersede(double t) {
+  const std::int64_t saved = no_onset_before_;
+  no_onset_before_ = std::max(saved, pending_.test_onset + kOnsetSearch + 1);
+  Fit next;
+  const bool found = BestChange(end_ - 1, &next);
+  no_onset_before_ = saved;
+  if (!found || !(next.ratio > 1.0) || !(next.ratio > pending_.ratio)) return false;
+  largest_ratio_ = std::max(largest_ratio_, next.ratio);
+  pending_ = next;
+  phase_ = Phase::kConfirming;
+  fired_block_ = end_;
+  fired_t_ = t;
+  ++fired_;
+  return true;
+}
+
 void PayloadEventDetector::EndBlock(const OnlineJointEstimator& estimator, double t,
                                     std::optional<PayloadEvent>* emitted) {
   end_ = block_ + 1;
+  if ((phase_ == Phase::kConfirming || phase_ == Phase::kSettling) && Supersede(t)) return;
   switch (phase_) {
     case Phase::kCalibrating: Calibrate(); return;
     case Phase::kArmed: Test(t); break;
     case Phase::kConfirming: Confirm(t); break;
     default: break;
   }
-  if (phase_ == Phase::kSettling) Settle(estimator, t, emitted);
+  if (phase_ == Phase::kSettling) Settle(estimator, t, emitted, false);
   Rebase(estimator);
+}
+
+std::optional<PayloadEvent> PayloadEventDetector::Flush(const OnlineJointEstimator& estimator) {
+  std::optional<PayloadEvent> emitted;
+  if (phase_ != Phase::kSettling) return emitted;
+  const double t0 = BlockAt(block_).t0;
+  end_ = block_ + 1;  // the open block closes
+  Settle(estimator, last_t_, &emitted, true);
+  StartBlock(t0 + options_.block_time);
+  return emitted;
 }
 
 std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstimator& estimator,
@@ -527,7 +589,10 @@ std::optional<PayloadEvent> PayloadEventDetector::Observe(const OnlineJointEstim
   }
   const double t = s.t;
   if (seen_ && (t - last_t_ > options_.max_window || t < last_t_)) {
-    phase_ = Phase::kWaiting;  // a gap (or time going back): arm again
+    // A gap (or time going back): a confirmed change is concluded on the data before it, then
+    // the detector arms again.
+    emitted = Flush(estimator);
+    phase_ = Phase::kWaiting;
     first_t_ = t;
   }
   if (!seen_) first_t_ = t;

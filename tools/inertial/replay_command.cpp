@@ -145,6 +145,8 @@ int Replay(const std::string& path, OnlineJointEstimator* estimator, const Repla
           if (outcome.accepted()) diagnosis->Observe(s.joint, estimator->stream_residual());
         };
     *r = ReplayLog(path, estimator, options, observe);
+    // A change confirmed but still settling when the log ends is concluded on what the log held.
+    if (std::optional<PayloadEvent> e = detector.Flush(*estimator)) events->push_back(std::move(*e));
   } catch (const CsvError& e) {
     std::cerr << "Error: " << e.what() << "\n";
     return ExitCodeOf(e);

@@ -24,7 +24,7 @@
 /// are not white (filtered signals, model error that varies along the trajectory): LR is then
 /// larger. Its inflation phi_B is estimated on the reference span by the block sandwich: with
 /// d = N_R^-1 g_R and groups G of consecutive blocks (0.5 s and 1 s), u_G = g_G - N_G d has
-/// E[sum_G u_G^T M u_G] = phi (tr(M N_R) - sum_G tr((M N_G)^2)) (M = N_R^-1) when each group's error
+/// E[sum_G u_G^T M u_G] = phi sum_G (tr(M N_G) - tr((M N_G)^2)) (M = N_R^-1) when each group's error
 /// has covariance phi N_G; the larger estimate of the two group lengths is taken (floored at 0.5).
 /// The decision:
 ///   LR_B(onset) / phi_B > c,   P(chi2_10 > c) = false_alarm_rate / (tests per hour),
@@ -165,6 +165,10 @@ class PayloadEventDetector {
   /// one per call). Allocates only when it returns an event; never throws. A sample of the wrong
   /// size or with a non-finite value is ignored.
   std::optional<PayloadEvent> Observe(const OnlineJointEstimator& estimator, const JointSample& sample);
+  /// At the end of a stream: a confirmed change still settling is concluded on the data so far (an
+  /// event if its mass is known to mass_std_fraction, or is a 10-sigma change within reach). Also
+  /// done by Observe() at a gap longer than max_window. Allocates only when it returns an event.
+  std::optional<PayloadEvent> Flush(const OnlineJointEstimator& estimator);
 
   /// A change is being confirmed or settled.
   bool settling() const { return phase_ == Phase::kConfirming || phase_ == Phase::kSettling; }
@@ -192,7 +196,9 @@ class PayloadEventDetector {
   };
   struct Fit {  // a change: window less reference on one candidate
     int candidate = -1;
-    std::int64_t onset = 0, regime = 0;  // block indices (absolute): the onset, the reference's earliest
+    // Block indices (absolute): the onset, the test's (Refit searches near it), the fit's window
+    // start (after the blocks around the onset), the reference's earliest.
+    std::int64_t onset = 0, test_onset = 0, window_lo = 0, regime = 0;
     double ratio = -1.0, statistic = 0.0, runner_up = 0.0, kappa = 1.0;
     int runner_up_candidate = -1;
     Vector10 delta = Vector10::Zero(), d_ref = Vector10::Zero();
@@ -205,7 +211,11 @@ class PayloadEventDetector {
   void Calibrate();
   void Test(double t);
   void Confirm(double t);
-  void Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted);
+  // force: conclude now (the stream ended or broke off) as at max_settle_time.
+  void Settle(const OnlineJointEstimator& estimator, double t, std::optional<PayloadEvent>* emitted, bool force);
+  std::int64_t Regime(int c) const;  // the first block candidate c's references may use
+  bool Supersede(double t);  // a later, stronger change replaces the pending one (file comment)
+  static constexpr int kOnsetSearch = 5;  // Refit's onsets: within this many blocks of the test's
   void Rebase(const OnlineJointEstimator& estimator);
   Block& BlockAt(std::int64_t index) { return ring_[static_cast<size_t>(index % static_cast<std::int64_t>(ring_.size()))]; }
   const Block& BlockAt(std::int64_t index) const {
@@ -215,8 +225,8 @@ class PayloadEventDetector {
   void Sum(int c, std::int64_t from, std::int64_t to, Matrix10* N, Vector10* g) const;
   // The block sandwich's inflation of candidate c's statistic over reference blocks [from, to).
   double Inflation(int c, std::int64_t from, std::int64_t to) const;
-  // The best change over onsets in [first_onset, last_onset] and every candidate; false if none tested.
-  bool BestChange(std::int64_t first_onset, std::int64_t last_onset, Fit* best) const;
+  // The best change over every candidate and its onsets up to last_onset; false if none tested.
+  bool BestChange(std::int64_t last_onset, Fit* best) const;
   // The change re-fitted on blocks [onset, end) on every candidate, the best kept.
   void Refit(Fit* fit, std::int64_t end) const;
   PayloadEvent MakeEvent(const OnlineJointEstimator& estimator, const Fit& fit, double t, bool settled) const;
@@ -230,6 +240,7 @@ class PayloadEventDetector {
   std::int64_t regime_ = 0;           // first block of the current reference model and system
   std::int64_t no_onset_before_ = 0;  // onsets before it were examined (a refuted change) or are another system
   std::int64_t calibration_start_ = 0, shadow_start_ = -1;
+  std::vector<std::int64_t> candidate_regime_;  // per candidate: the first block after an event (see Settle)
   int window_blocks_ = 0, reference_blocks_ = 0, min_reference_blocks_ = 0, calibration_blocks_ = 0;
   int onsets_ = 0;
   Phase phase_ = Phase::kWaiting;
@@ -246,8 +257,8 @@ class PayloadEventDetector {
   double fired_t_ = 0.0, confirmed_t_ = 0.0;
   std::uint64_t fired_ = 0, confirmed_ = 0;
   mutable std::vector<double> scratch_;  // block RMS values, candidates' likelihoods (sized at construction)
-  // s_j: the median block RMS of joint j's error over blocks [from, to) (sum_rr, or sum_rr_next).
-  void SetNoise(std::int64_t from, std::int64_t to, bool next);
+  // s_j: the median block RMS of joint j's error over blocks [from, to).
+  void SetNoise(std::int64_t from, std::int64_t to);
 };
 
 /// P(chi2_k > x) for even k (closed form: e^{-x/2} sum_{i < k/2} (x/2)^i / i!).
