@@ -211,6 +211,48 @@ TEST(PayloadEvent, SmallPayloadInLargerNoise) {
   EXPECT_NEAR(e.added_mass, s.payload_mass, 0.10 * s.payload_mass);
 }
 
+// A put-down 3.5 s after the pick-up: after the pick-up's event, link7's own gradients since the
+// change are corrected by the change found, so its reference runs from the pick-up on and the
+// put-down is tested 3 s (min_reference_time) after the pick-up, not 3 s after its event.
+TEST(PayloadEvent, PutDownSoonAfterThePickUp) {
+  const RobotDynamics model = ArmModel();
+  Scenario s;
+  s.duration = 30;
+  s.place_time = 23.5;
+  const DetectorRun run = RunDetector(model, MakeStream(model, ArmTruth(model, 3), s, true));
+  for (const PayloadEvent& e : run.events) std::printf("%s\n", PayloadEventText(e).c_str());
+  ASSERT_EQ(run.events.size(), 2u);
+  EXPECT_EQ(run.events[1].link, "link7");
+  EXPECT_NEAR(run.events[1].onset_time, s.place_time - 0.05, 0.051);
+  EXPECT_NEAR(run.events[1].added_mass, -s.payload_mass, 0.10 * s.payload_mass);
+}
+
+// A stream that ends 0.6 s after a pick-up: the change is confirmed but min_settle_time has not
+// passed; Flush() concludes it on the data there are (its mass is known to far better than 3 %).
+TEST(PayloadEvent, FlushConcludesAChangeWhenTheStreamEnds) {
+  const RobotDynamics model = ArmModel();
+  Scenario s;
+  s.duration = 20.6;
+  const Stream stream = MakeStream(model, ArmTruth(model, 3), s, true);
+  OnlineJointEstimator estimator(model, Eigen::VectorXd::Zero(model.num_parameters()));
+  PayloadEventDetector detector(estimator);
+  std::vector<PayloadEvent> events;
+  for (const JointSample& js : stream.samples) {
+    estimator.Update(js);
+    if (estimator.SolveDue()) estimator.Solve();
+    if (std::optional<PayloadEvent> e = detector.Observe(estimator, js)) events.push_back(*e);
+  }
+  EXPECT_TRUE(events.empty());
+  EXPECT_TRUE(detector.settling());
+  const std::optional<PayloadEvent> last = detector.Flush(estimator);
+  ASSERT_TRUE(last.has_value());
+  std::printf("%s\n", PayloadEventText(*last).c_str());
+  EXPECT_EQ(last->link, "link7");
+  EXPECT_NEAR(last->added_mass, s.payload_mass, 0.10 * s.payload_mass);
+  EXPECT_FALSE(detector.settling());
+  EXPECT_FALSE(detector.Flush(estimator).has_value());  // nothing left
+}
+
 // Clean streams: five trajectories with white noise, then one with strongly correlated noise (an
 // AR(1) of correlation time 50 ms, as torques low-passed at ~3 Hz), then one with bursts of wild
 // torques (10 samples of 100x the noise every 5 s, as glitches that got past a pipeline): no

@@ -20,7 +20,7 @@
 /// Directions of N weaker than 1e-6 of its mean eigenvalue are left out of every solve (a ridge).
 ///
 /// Noise and its correlation, from the data. s_j is the median block RMS of joint j's error
-/// (measured at arming over calibration_time, and again whenever w_ref is re-taken). Real errors
+/// (measured at arming over calibration_time). Real errors
 /// are not white (filtered signals, model error that varies along the trajectory): LR is then
 /// larger. Its inflation phi_B is estimated on the reference span by the block sandwich: with
 /// d = N_R^-1 g_R and groups G of consecutive blocks (0.5 s and 1 s), u_G = g_G - N_G d has
@@ -50,15 +50,22 @@
 /// mass_std_fraction |dm| and |c| within reach (the robot's longest segment: LongestSegment, the
 /// bound RobotDynamics puts on a payload effect's region); or, not settled by max_settle_time, as a
 /// clear mass change (|dm| >= 10 std, within reach); else no event (a drift of the reference, a
-/// change of friction or of a sensor). After an event w_ref takes the change (the link's 10
-/// coefficients += delta) and the next reference starts: a put-down after a pick-up is found the
-/// same way, as a negative body.
+/// change of friction or of a sensor). A change whose mass is within 3 stds of zero at
+/// min_settle_time is dropped then (it would hold the detector for max_settle_time). While a change
+/// is confirmed or settled the tests go on for later onsets, and a stronger one supersedes it. A gap
+/// in the stream and Flush() (the end of a stream) conclude a settling change on the data so far.
+/// After an event w_ref takes the change (the link's 10 coefficients += delta); the link's own
+/// gradients since the change are corrected exactly (g_b -= N_b delta), so its reference runs from
+/// the change on and a put-down after a pick-up is found the same way, as a negative body, once
+/// min_reference_time has passed since the pick-up; the other links' references start at the event
+/// (their gradients would need cross terms with the link's columns, which are not kept).
 ///
 /// The reference model. The detector arms arm_time after the first sample (the online fit: and
 /// once it has solved) and takes the estimate as w_ref. It then keeps a shadow: the estimate at the
 /// shadow's start, w_next, collects its own g beside w_ref's (N does not depend on the model); after
 /// min_reference_time it replaces w_ref if it predicted those blocks better (out of sample), and a
-/// new shadow starts. So the reference follows the estimate while it learns, without a blind span,
+/// new shadow starts; s_j stay those of arming (one weighting within a reference: phi scales the
+/// statistic to the errors as they are). So the reference follows the estimate while it learns, without a blind span,
 /// and after an event keeps the change until the estimate (whose statistics mix the samples with
 /// and without the payload) predicts better. A gap in the stream longer than max_window re-arms.
 /// Measured: in the first 10 s of clean simulated streams the test fires now and then (ratios up to
