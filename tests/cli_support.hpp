@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <sstream>
 #include <vector>
 
 namespace inertial::testing {
@@ -124,6 +125,32 @@ inline std::string FitToUrdf(std::vector<std::string> command, const std::string
   const CliRun r = RunCli(command);
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
   return out;
+}
+
+// The CSV log at `from` without its qdd_ columns (comment lines kept).
+inline void DropAccelerations(const std::string& from, const std::string& to) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::string line;
+  std::vector<bool> keep;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') {
+      out << line << "\n";
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    if (keep.empty()) {
+      for (const std::string& c : cells) keep.push_back(c.rfind("qdd_", 0) != 0);
+    }
+    std::string joined;
+    for (std::size_t i = 0; i < cells.size() && i < keep.size(); ++i) {
+      if (!keep[i]) continue;
+      joined += (joined.empty() ? "" : ",") + cells[i];
+    }
+    out << joined << "\n";
+  }
 }
 
 // The real KUKA LWR4+ measurements (../shared/data/kuka_lwr4 beside the source tree: its URDF and

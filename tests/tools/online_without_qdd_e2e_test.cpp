@@ -25,32 +25,6 @@ using testing::Describe;
 using testing::RunCli;
 namespace fs = std::filesystem;
 
-// The CSV log at `from` without its qdd_ columns (comment lines kept).
-void DropAccelerations(const std::string& from, const std::string& to) {
-  std::ifstream in(from);
-  std::ofstream out(to);
-  std::string line;
-  std::vector<bool> keep;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') {
-      out << line << "\n";
-      continue;
-    }
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    if (keep.empty()) {
-      for (const std::string& c : cells) keep.push_back(c.rfind("qdd_", 0) != 0);
-    }
-    std::string joined;
-    for (std::size_t i = 0; i < cells.size() && i < keep.size(); ++i) {
-      if (!keep[i]) continue;
-      joined += (joined.empty() ? "" : ",") + cells[i];
-    }
-    out << joined << "\n";
-  }
-}
-
 const char* kLegMotors = R"(window: 0.002
 motors:
   - {id: 0x001, joint: abad, protocol: mini_cheetah, position: [-12.5, 12.5], velocity: [-65, 65], torque: [-18, 18]}
@@ -81,7 +55,7 @@ TEST(OnlineWithoutQdd, SimulatedStreamsWithinTenPercentOfTheBatchFitOnExactQdd) 
     simulate({"--out", path("train.csv")});
     simulate({"--positions-only", "--write-log", path("train.lcm")});  // q, qd, tau: no qdd
     simulate({"--out", path("test.csv"), "--duration", "8", "--seed", "2"});
-    DropAccelerations(path("train.csv"), path("train-no-qdd.csv"));
+    testing::DropAccelerations(path("train.csv"), path("train-no-qdd.csv"));
     const double batch = testing::HeldOutError(testing::FitToUrdf({"identify", "--model", model, "--data", path("train.csv")}, c.effects, path("batch.urdf")),
                                  path("test.csv"));
     const double lcm = testing::HeldOutError(testing::FitToUrdf({"replay", "--model", model, "--log", path("train.lcm")}, c.effects, path("lcm.urdf")),
@@ -114,7 +88,7 @@ TEST(OnlineWithoutQdd, KukaLwr4WithoutItsAccelerationColumns) {
   fs::create_directories(dir);
   const std::string model = data + "/kuka_lwr4.urdf", effects = "offset,viscous,coulomb";
   const std::string train = (dir / "run1-no-qdd.csv").string();
-  DropAccelerations(data + "/measurements_1.csv", train);
+  testing::DropAccelerations(data + "/measurements_1.csv", train);
   const double batch = testing::HeldOutError(testing::FitToUrdf({"identify", "--model", model, "--data", data + "/measurements_1.csv"}, effects,
                                    (dir / "batch.urdf").string()),
                                data + "/measurements_2.csv");

@@ -39,30 +39,6 @@ std::string WithoutHeaderAndFirstRow(const std::string& text) {
   return text.substr(cut + 1);
 }
 
-// The CSV `in` without its qdd_ columns, into `out`.
-void DropQdd(const fs::path& in, const fs::path& out) {
-  std::ifstream is(in);
-  std::ofstream os(out);
-  std::string line;
-  std::vector<bool> keep;
-  while (std::getline(is, line)) {
-    std::stringstream ss(line);
-    std::string cell;
-    std::vector<std::string> cells;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (keep.empty()) {
-      for (const std::string& c : cells) keep.push_back(c.rfind("qdd_", 0) != 0);
-    }
-    bool first = true;
-    for (size_t i = 0; i < cells.size(); ++i) {
-      if (!keep[i]) continue;
-      os << (first ? "" : ",") << cells[i];
-      first = false;
-    }
-    os << '\n';
-  }
-}
-
 nlohmann::json ReplayJson(const std::vector<std::string>& args) {
   std::vector<std::string> all = {"replay"};
   all.insert(all.end(), args.begin(), args.end());
@@ -102,7 +78,7 @@ TEST_F(PayloadEvents, PickAndPlaceOnTheArmWithAndWithoutQdd) {
   const double mass = PayloadMass(testing::ReadFile(dir_ / "truth.urdf"));
   const fs::path log = dir_ / "pick.csv", noqdd = dir_ / "pick_noqdd.csv";
   std::ofstream(log) << joined;
-  DropQdd(log, noqdd);
+  testing::DropAccelerations(log.string(), noqdd.string());
   for (const fs::path& input : {log, noqdd}) {
     SCOPED_TRACE(input.filename().string());
     const nlohmann::json j = ReplayJson({"--model", arm, "--log", input.string()});
