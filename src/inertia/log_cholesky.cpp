@@ -151,6 +151,43 @@ Vector10 LogCholeskyParameterization::ToPi(const Vector10& theta, Matrix10* J_pi
   return pi;
 }
 
+namespace {
+// A times PerturbationColumn<R>(b): b_3 A e_{h_R} + 2 b_R (the two diagonal columns of I but R's)
+// - the two off-diagonal columns of I that touch R, each times the other coordinate of b.
+template <int R>
+Vector6 ProjectedColumn(const Matrix6x10& A, const Vector6& diagonal_pair, const Eigen::Vector4d& b) {
+  constexpr int kH = pi_ix::kHx + R;
+  constexpr int kOff1 = R == 0 ? pi_ix::kIxy : (R == 1 ? pi_ix::kIxy : pi_ix::kIyz);
+  constexpr int kOff2 = R == 0 ? pi_ix::kIxz : (R == 1 ? pi_ix::kIyz : pi_ix::kIxz);
+  constexpr int kB1 = R == 0 ? 1 : (R == 1 ? 0 : 1);
+  constexpr int kB2 = R == 0 ? 2 : (R == 1 ? 2 : 0);
+  return b[3] * A.col(kH) + (2.0 * b[R]) * diagonal_pair - b[kB1] * A.col(kOff1) - b[kB2] * A.col(kOff2);
+}
+}  // namespace
+
+Vector10 LogCholeskyParameterization::ToPiProjected(const Vector10& theta, const Matrix6x10& A, Matrix6x10* AJ) const {
+  const Matrix4 U = LogCholeskyFactor(theta);
+  const Matrix4 Bt = identity_reference_ ? U : Matrix4(U * J0_);
+  const Vector10 pi = identity_reference_ ? PiFromLogCholesky(theta, nullptr) : PiFromPseudoInertia(Bt * U.transpose());
+  const double ea = U(3, 3);
+  // The pairs of I's diagonal columns a perturbation of row R moves (all but R's own).
+  const Vector6 pair0 = A.col(pi_ix::kIyy) + A.col(pi_ix::kIzz);
+  const Vector6 pair1 = A.col(pi_ix::kIxx) + A.col(pi_ix::kIzz);
+  const Vector6 pair2 = A.col(pi_ix::kIxx) + A.col(pi_ix::kIyy);
+  Matrix6x10& H = *AJ;
+  H.col(kAlpha).noalias() = 2.0 * (A * pi);
+  H.col(kD1) = ProjectedColumn<0>(A, pair0, U(0, 0) * Bt.col(0));
+  H.col(kD2) = ProjectedColumn<1>(A, pair1, U(1, 1) * Bt.col(1));
+  H.col(kD3) = ProjectedColumn<2>(A, pair2, U(2, 2) * Bt.col(2));
+  H.col(kS12) = ProjectedColumn<0>(A, pair0, ea * Bt.col(1));
+  H.col(kS23) = ProjectedColumn<1>(A, pair1, ea * Bt.col(2));
+  H.col(kS13) = ProjectedColumn<0>(A, pair0, ea * Bt.col(2));
+  H.col(kT1) = ProjectedColumn<0>(A, pair0, ea * Bt.col(3));
+  H.col(kT2) = ProjectedColumn<1>(A, pair1, ea * Bt.col(3));
+  H.col(kT3) = ProjectedColumn<2>(A, pair2, ea * Bt.col(3));
+  return pi;
+}
+
 Matrix10 LogCholeskyParameterization::ContractedHessian(const Vector10& theta, const Vector10& g) const {
   const Matrix4 G = PseudoInertiaGradient(g);  // g . pi = tr(G J)
   const Matrix4 U = LogCholeskyFactor(theta);

@@ -343,6 +343,25 @@ TEST(LogCholeskyRelative, JacobianMatchesCentralDifferencesAndRoundTrips) {
   }
 }
 
+// The projected Jacobian A J against central differences of A pi(theta) (and pi against ToPi), for
+// the identity reference and random reference bodies, with a random 6 x 10 A.
+TEST(LogCholeskyRelative, ProjectedJacobianMatchesCentralDifferencesOfTheRegressorTimesPi) {
+  Rng rng(19);
+  for (int n = 0; n < 100; ++n) {
+    const Pose pose = rng.RandomPose<Pose>(0.5);
+    const LogCholeskyParameterization param =
+        n % 4 == 0 ? LogCholeskyParameterization() : LogCholeskyParameterization(RandomEllipsoid(rng, pose));
+    const Vector10 theta = rng.UniformVector<10>(-1.5, 1.5);
+    Matrix6x10 A;
+    for (int c = 0; c < 10; ++c) A.col(c) = rng.UniformVector<6>(-2.0, 2.0);
+    Matrix6x10 AJ;
+    const Vector10 pi = param.ToPiProjected(theta, A, &AJ);
+    EXPECT_LT(RelativeError(pi, param.ToPi(theta)), 1e-14);
+    const std::function<Vector6(const Vector10&)> f = [&](const Vector10& x) { return Vector6(A * param.ToPi(x)); };
+    EXPECT_LT(RelativeError(AJ, CentralDifference<6, 10>(f, theta)), 1e-6) << "draw " << n;
+  }
+}
+
 // The Hessian of g . pi(theta) against central differences of the (independently tested) exact
 // Jacobian, for the identity reference and for random reference bodies; and symmetric.
 TEST(LogCholeskyRelative, ContractedHessianMatchesDifferencesOfTheJacobian) {

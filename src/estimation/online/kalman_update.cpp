@@ -174,13 +174,7 @@ void BasicKalmanUpdate<N, M>::Transpose(const MatrixH& H) {
     Ht_.template topRows<N>() = H.transpose();
   } else {
     Ht_.topLeftCorner(n_, m_) = H.transpose();
-    for (int i = 0; i < m_; ++i) {
-      int c = 0, e = n_;
-      while (c < n_ && Ht_(c, i) == 0.0) ++c;
-      while (e > c && Ht_(e - 1, i) == 0.0) --e;
-      first_[i] = c;
-      end_[i] = e;
-    }
+    for (int i = 0; i < m_; ++i) NonzeroSpan(Ht_.col(i).head(n_), &first_[i], &end_[i]);
   }
 }
 

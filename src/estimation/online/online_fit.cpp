@@ -201,6 +201,11 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   s_ = Eigen::VectorXd::Zero(F_);
   At_ = Eigen::MatrixXd::Zero(Fp_, RoundUpToBlock(m_));
   CwAt_ = Eigen::MatrixXd::Zero(Fp_, RoundUpToBlock(m_));
+  Ar_ = Eigen::MatrixXd::Zero(F_, m_);
+  ys_ = Eigen::VectorXd::Zero(m_);
+  order_.assign(static_cast<size_t>(m_), 0);
+  first_.assign(static_cast<size_t>(m_), 0);
+  end_.assign(static_cast<size_t>(m_), 0);
   Cw_ = Eigen::MatrixXd::Zero(Fp_, Fp_);
   gate_scale_ = Eigen::VectorXd::Zero(m_);
   ones_ = Eigen::VectorXd::Ones(Fp_);
@@ -221,16 +226,40 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   center_ = Eigen::VectorXd::Zero(m_);
 }
 
-void OnlineFit::Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, double lambda) {
-  At_.topLeftCorner(F_, m_) = A.transpose();
+void OnlineFit::LoadRows(const Eigen::Ref<const Eigen::MatrixXd>& rows_t) {
+  for (int j = 0; j < m_; ++j) {  // insertion sort by first (m is a robot's joints: no allocation)
+    int c = 0, e = 0;
+    NonzeroSpan(rows_t.col(j), &c, &e);
+    if (c == e) c = e = Fp_;
+    int k = j;
+    for (; k > 0 && first_[static_cast<size_t>(k - 1)] > c; --k) {
+      first_[static_cast<size_t>(k)] = first_[static_cast<size_t>(k - 1)];
+      end_[static_cast<size_t>(k)] = end_[static_cast<size_t>(k - 1)];
+      order_[static_cast<size_t>(k)] = order_[static_cast<size_t>(k - 1)];
+    }
+    first_[static_cast<size_t>(k)] = c;
+    end_[static_cast<size_t>(k)] = e;
+    order_[static_cast<size_t>(k)] = j;
+  }
+  for (int k = 0; k < m_; ++k) At_.col(k).head(F_) = rows_t.col(order_[static_cast<size_t>(k)]);
+}
+
+void OnlineFit::AddAtToS() {
+  // One pass over S in which each column block takes only the rows that have begun there: for a
+  // serial chain about a third of the F^2 m / 2 multiply-adds of the plain rank update.
+  SymmetricSpanRankUpdate(S_, At_.leftCols(m_), first_.data(), ones_, -1.0);
+}
+
+void OnlineFit::Accumulate(const Eigen::VectorXd& y, double lambda) {
+  for (int k = 0; k < m_; ++k) ys_[k] = y[order_[static_cast<size_t>(k)]];
   if (lambda == 1.0) {
-    ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
+    AddAtToS();
   } else {
     d_.setConstant(std::sqrt(lambda));
     ScaledSymmetricRankUpdate(S_, d_, At_.leftCols(m_), -1.0);
   }
   s_ = lambda * s_;
-  s_.noalias() += At_.topLeftCorner(F_, m_) * y;
+  s_.noalias() += At_.topLeftCorner(F_, m_) * ys_;
   c_ = lambda * c_ + y.squaredNorm();
   weight_ = lambda * weight_ + 1.0;
   added_since_solve_ = lambda * added_since_solve_ + 1.0;
@@ -307,18 +336,37 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
       return UpdateStatus::kBuffered;
     }
     // The caller has not solved since the warm-up filled: nothing to judge by yet.
-    Accumulate(A, y, lambda);
+    Ar_ = A.transpose();
+    LoadRows(Ar_);
+    Accumulate(y, lambda);
     return UpdateStatus::kAccepted;
   }
   // The gate: noise plus what the estimate's uncertainty adds to this sample's prediction
   // (a_j^T C_w a_j: large where the samples so far did not excite what this one does).
-  const int mp = static_cast<int>(At_.cols());
-  At_.topLeftCorner(F_, m_) = A.transpose();
-  for (int g0 = 0; g0 < mp; g0 += kSpanBlock) {
-    SymmetricSpanProduct(Cw_, At_.middleCols(g0, kSpanBlock), 0, Fp_, CwAt_.middleCols(g0, kSpanBlock));
-  }
-  for (int j = 0; j < m_; ++j) {
-    gate_scale_[j] = std::sqrt(noise_[j] * noise_[j] + std::max(0.0, At_.col(j).dot(CwAt_.col(j))));
+  // A's rows sorted by where they begin (LoadRows), four at a time: each group's quadratic forms
+  // over the diagonal block of its span alone, (e - c)^2 per group instead of F^2
+  // (symmetric_span_product.hpp).
+  Ar_ = A.transpose();
+  LoadRows(Ar_);
+  for (int g0 = 0; g0 < m_; g0 += kSpanBlock) {
+    const int g1 = std::min(g0 + kSpanBlock, m_);
+    int c = Fp_, e = 0;
+    for (int k = g0; k < g1; ++k) {
+      if (first_[static_cast<size_t>(k)] < end_[static_cast<size_t>(k)]) {
+        c = std::min(c, first_[static_cast<size_t>(k)]);
+        e = std::max(e, end_[static_cast<size_t>(k)]);
+      }
+    }
+    c = c / kSpanBlock * kSpanBlock;
+    const int len = c < e ? RoundUpToBlock(e) - c : 0;
+    if (len > 0) {
+      SymmetricSpanProduct(Cw_.block(c, c, len, len), At_.block(c, g0, len, kSpanBlock), 0, len,
+                           CwAt_.block(c, g0, len, kSpanBlock));
+    }
+    for (int k = g0; k < g1; ++k) {
+      const double q = len > 0 ? At_.col(k).segment(c, len).dot(CwAt_.col(k).segment(c, len)) : 0.0;
+      gate_scale_[order_[static_cast<size_t>(k)]] = std::sqrt(noise_[order_[static_cast<size_t>(k)]] * noise_[order_[static_cast<size_t>(k)]] + std::max(0.0, q));
+    }
   }
   if (!WithinGate(r_, center_, gate_scale_, gate_)) {
     // Held for the next solve, which judges it with the fit that includes it; a run longer than
@@ -335,7 +383,7 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
     return UpdateStatus::kBuffered;
   }
   consecutive_ = 0;
-  Accumulate(A, y, lambda);
+  Accumulate(y, lambda);
   return UpdateStatus::kAccepted;
 }
 
@@ -432,9 +480,9 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
         all_kept = false;
         continue;
       }
-      At_.topLeftCorner(F_, m_) = pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_);
-      ScaledSymmetricRankUpdate(S_, ones_, At_.leftCols(m_), -1.0);
-      s_.noalias() += At_.topLeftCorner(F_, m_) * pending_y_.col(i);
+      LoadRows(pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_));
+      AddAtToS();
+      s_.noalias() += pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_) * pending_y_.col(i);
       c_ += pending_y_.col(i).squaredNorm();
       weight_ += 1.0;
     }

@@ -49,14 +49,13 @@ void BasicRecursiveGaussNewton<N, M, F>::Evaluate(const MatrixA& A) {
   if constexpr (kDynamic) {
     layout_.Evaluate(x_, A, w_, H_);
   } else {
-    Matrix10 J;
-    w_ = layout_.bodies()[0].map.ToPi(x_.template head<10>(), &J);
-    H_.noalias() = A.lazyProduct(J);  // fixed sizes: unrolled
+    // H = A J from J's structure (log_cholesky.hpp), without forming J.
+    w_ = layout_.bodies()[0].map.ToPiProjected(x_.template head<10>(), A, &H_);
   }
 }
 
 template <int N, int M, int F>
-void BasicRecursiveGaussNewton<N, M, F>::CoefficientsAt(const Eigen::VectorXd& x) {
+void BasicRecursiveGaussNewton<N, M, F>::CoefficientsAt(const Eigen::Matrix<double, N, 1>& x) {
   if constexpr (kDynamic) {
     layout_.Coefficients(x, w_);
   } else {
@@ -67,8 +66,12 @@ void BasicRecursiveGaussNewton<N, M, F>::CoefficientsAt(const Eigen::VectorXd& x
 template <int N, int M, int F>
 UpdateStatus BasicRecursiveGaussNewton<N, M, F>::Step(const MatrixA& A, const VectorM& y) {
   Evaluate(A);
-  r_ = y;
-  r_.noalias() -= A * w_;
+  if constexpr (kDynamic) {
+    r_ = y;
+    r_.noalias() -= A * w_;
+  } else {
+    r_ = y - 0.5 * H_.col(theta_index::kAlpha);  // H's alpha column is 2 A pi (ToPiProjected)
+  }
   const UpdateStatus status = kalman_.Step(H_, r_);
   if (status != UpdateStatus::kAccepted) return status;
   const auto& dx = kalman_.step();
@@ -89,9 +92,8 @@ UpdateStatus BasicRecursiveGaussNewton<N, M, F>::Step(const MatrixA& A, const Ve
     if (r_.squaredNorm() <= before || k == options_.max_halvings) break;  // the last try is taken
     scale *= 0.5;
   }
-  for (int i = 0; i < x_.size(); ++i) {
-    if (!(std::abs(x_trial_[i]) <= options_.max_abs_parameter)) return UpdateStatus::kNumerical;
-  }
+  // (NaN compares false: refused too.)
+  if (!(x_trial_.array().abs() <= options_.max_abs_parameter).all()) return UpdateStatus::kNumerical;
   x_ = x_trial_;
   kalman_.Commit(scale);
   return UpdateStatus::kAccepted;

@@ -15,6 +15,7 @@ static_assert(kSpanBlock % kLanes == 0, "a panel's rows must be whole packets");
 template <int R>
 void Panel(double* p, Eigen::Index ld, const double* w, Eigen::Index ldw, Eigen::Index m, const double* d, int j0,
            int i, double f) {
+  // (m may be fewer than W's columns: SymmetricSpanRankUpdate's columns that have begun at j0.)
   using Eigen::internal::pmadd;
   using Eigen::internal::pmul;
   using Eigen::internal::ploadu;
@@ -46,7 +47,7 @@ void Panel(double* p, Eigen::Index ld, const double* w, Eigen::Index ldw, Eigen:
 }
 }  // namespace
 
-void ScaledSymmetricRankUpdate(Eigen::MatrixXd& P, const Eigen::VectorXd& d,
+void ScaledSymmetricRankUpdate(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> P, const Eigen::Ref<const Eigen::VectorXd>& d,
                                const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& W, double f) {
   const int n = static_cast<int>(P.rows());
   INERTIAL_ASSERT(P.cols() == n && n % kSpanBlock == 0 && d.size() == n && W.rows() == n && W.cols() >= 1);
@@ -73,6 +74,37 @@ void ScaledSymmetricRankUpdate(Eigen::MatrixXd& P, const Eigen::VectorXd& d,
       Panel<2 * kSpanBlock / kLanes>(p, ld, w, ldw, m, dd, j0, i, f);
     } else if (i < n) {
       Panel<kSpanBlock / kLanes>(p, ld, w, ldw, m, dd, j0, i, f);
+    }
+  }
+}
+
+void SymmetricSpanRankUpdate(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> P,
+                              const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& W, const int* first,
+                              const Eigen::Ref<const Eigen::VectorXd>& ones, double f) {
+  const int n = static_cast<int>(P.rows());
+  INERTIAL_ASSERT(P.cols() == n && n % kSpanBlock == 0 && ones.size() == n && W.rows() == n && W.cols() >= 1);
+  const Eigen::Index ld = P.outerStride(), ldw = W.outerStride(), m = W.cols();
+  double* p = P.data();
+  const double* w = W.data();
+  const double* dd = ones.data();
+  constexpr int kRows = (kLanes >= 4 ? 3 : 2) * kSpanBlock;
+  Eigen::Index active = 0;  // W's leading columns that are nonzero somewhere in rows >= j0 .. j0+3
+  for (int j0 = 0; j0 < n; j0 += kSpanBlock) {
+    while (active < m && first[active] < j0 + kSpanBlock) ++active;
+    if (active == 0) continue;  // no column of W reaches these columns of P: they do not change
+    for (int c = 0; c < kSpanBlock; ++c) {
+      for (int r = c; r < kSpanBlock; ++r) {
+        double s = 0.0;
+        for (Eigen::Index k = 0; k < active; ++k) s += w[k * ldw + j0 + r] * w[k * ldw + j0 + c];
+        p[(j0 + c) * ld + j0 + r] -= f * s;
+      }
+    }
+    int i = j0 + kSpanBlock;
+    for (; i + kRows <= n; i += kRows) Panel<kRows / kLanes>(p, ld, w, ldw, active, dd, j0, i, f);
+    if (i + 2 * kSpanBlock <= n) {
+      Panel<2 * kSpanBlock / kLanes>(p, ld, w, ldw, active, dd, j0, i, f);
+    } else if (i < n) {
+      Panel<kSpanBlock / kLanes>(p, ld, w, ldw, active, dd, j0, i, f);
     }
   }
 }

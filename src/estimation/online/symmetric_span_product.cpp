@@ -12,8 +12,9 @@ constexpr int kLanes = Eigen::internal::packet_traits<double>::size;  // doubles
 static_assert(kSpanBlock % kLanes == 0, "a panel's rows must be whole packets");
 }  // namespace
 
-void SymmetricSpanProduct(const Eigen::MatrixXd& P, const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& G,
-                          int c, int e, Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> out) {
+void SymmetricSpanProduct(const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& P,
+                          const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& G, int c, int e,
+                          Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> out) {
   using Eigen::internal::pmadd;
   using Eigen::internal::ploadu;
   using Eigen::internal::pset1;
@@ -22,7 +23,7 @@ void SymmetricSpanProduct(const Eigen::MatrixXd& P, const Eigen::Ref<const Eigen
   INERTIAL_ASSERT(P.cols() == n && n % kSpanBlock == 0 && c % kSpanBlock == 0 && e % kSpanBlock == 0 && 0 <= c &&
                   c <= e && e <= n);
   INERTIAL_ASSERT(G.rows() == n && G.cols() == kSpanBlock && out.rows() == n && out.cols() == kSpanBlock);
-  const Eigen::Index ld = n, ldg = G.outerStride(), ldo = out.outerStride();
+  const Eigen::Index ld = P.outerStride(), ldg = G.outerStride(), ldo = out.outerStride();
   const double* g = G.data();
   double* o = out.data();
   out.setZero();
@@ -78,6 +79,16 @@ void SymmetricSpanProduct(const Eigen::MatrixXd& P, const Eigen::Ref<const Eigen
       }
     }
   }
+}
+
+void NonzeroSpan(const Eigen::Ref<const Eigen::VectorXd>& v, int* first, int* end) {
+  const int n = static_cast<int>(v.size());
+  int c = 0, e = n;
+  while (c < n && v[c] == 0.0) ++c;
+  while (e > c && v[e - 1] == 0.0) --e;
+  if (c == e) c = e = 0;
+  *first = c;
+  *end = e;
 }
 
 }  // namespace inertial

@@ -51,5 +51,40 @@ TEST(SymmetricSpanProduct, WorksOnColumnBlocksOfWiderMatrices) {
   EXPECT_EQ(out_wide.rightCols(kSpanBlock).norm(), 0.0);
 }
 
+// A diagonal block of a larger P (what the online fit's gate passes: the block over a group of rows'
+// span) gives those rows of the full product when G is zero outside them.
+TEST(SymmetricSpanProduct, ADiagonalBlockGivesTheSpansRowsOfTheFullProduct) {
+  Rng rng(13);
+  const int n = 9 * kSpanBlock, c = 2 * kSpanBlock, e = 7 * kSpanBlock;
+  const Eigen::MatrixXd A = RandomMatrix(rng, n, n);
+  const Eigen::MatrixXd sym = A * A.transpose();
+  Eigen::MatrixXd P = sym;
+  P.triangularView<Eigen::StrictlyUpper>().setConstant(1e300);  // never read
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, kSpanBlock);
+  G.middleRows(c, e - c) = RandomMatrix(rng, e - c, kSpanBlock);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Constant(n, kSpanBlock, 7.0);
+  SymmetricSpanProduct(P.block(c, c, e - c, e - c), G.middleRows(c, e - c), 0, e - c, out.middleRows(c, e - c));
+  const Eigen::MatrixXd expected = (sym * G).middleRows(c, e - c);
+  EXPECT_LT((out.middleRows(c, e - c) - expected).cwiseAbs().maxCoeff(), 1e-13 * expected.cwiseAbs().maxCoeff());
+  EXPECT_EQ(out.topRows(c), Eigen::MatrixXd::Constant(c, kSpanBlock, 7.0));  // rows outside the block untouched
+}
+
+TEST(NonzeroSpan, FirstAndEndOfTheNonzeroEntries) {
+  int c = -1, e = -1;
+  NonzeroSpan(Eigen::VectorXd::Zero(6), &c, &e);
+  EXPECT_EQ(c, 0);
+  EXPECT_EQ(e, 0);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(9);
+  v[2] = 1e-300;
+  v[6] = -3.0;
+  NonzeroSpan(v, &c, &e);
+  EXPECT_EQ(c, 2);
+  EXPECT_EQ(e, 7);
+  v.setOnes();
+  NonzeroSpan(v, &c, &e);
+  EXPECT_EQ(c, 0);
+  EXPECT_EQ(e, 9);
+}
+
 }  // namespace
 }  // namespace inertial

@@ -212,7 +212,13 @@ class OnlineFit final : public RecursiveEstimator {
   void RestoreExtra(const EstimatorState& state) override;
 
  private:
-  void Accumulate(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, double lambda);
+  /// The sample in At_ (LoadRows) with its measurements y joins the statistics at weight 1, the
+  /// rest decayed by lambda.
+  void Accumulate(const Eigen::VectorXd& y, double lambda);
+  /// At_'s first m columns = rows (columns of rows_t, F x m) sorted by where they begin, with their
+  /// spans first_, end_ and the order order_ (At_'s column k is row order_[k]).
+  void LoadRows(const Eigen::Ref<const Eigen::MatrixXd>& rows_t);
+  void AddAtToS();     ///< S += A^T A over the spans (unit weight)
   void Empty();
   void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
   void ResolveHeld(bool kept);
@@ -230,6 +236,12 @@ class OnlineFit final : public RecursiveEstimator {
   Eigen::MatrixXd At_;      ///< Fp x mp: A^T padded (rows to kSpanBlock, columns to kSpanBlock)
   Eigen::MatrixXd Cw_, CwAt_;  ///< the gate's C_w (lower triangle, padded) and C_w A^T
   Eigen::VectorXd gate_scale_;
+  /// A's rows sorted by the first of their nonzero columns [first, end) (a robot's regressor is
+  /// block-triangular: a joint's row is zero over the bodies before it; a zero row sorts last with
+  /// first = end = Fp): the products run over the spans alone (symmetric_span_product.hpp).
+  Eigen::MatrixXd Ar_;      ///< F x m: A^T as given
+  Eigen::VectorXd ys_;      ///< y in At_'s column order
+  std::vector<int> order_, first_, end_;
   Eigen::VectorXd ones_, d_, r_;
   /// Samples held for the next solve: the warm-up, and those the gate refused since the last solve.
   Eigen::MatrixXd pending_rows_, pending_y_;

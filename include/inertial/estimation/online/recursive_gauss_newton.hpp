@@ -61,11 +61,12 @@ class BasicRecursiveGaussNewton final : public RecursiveEstimator {
  private:
   UpdateStatus Step(const MatrixA& A, const VectorM& y);
   void Evaluate(const MatrixA& A);  // w_ and H_ at x_
-  void CoefficientsAt(const Eigen::VectorXd& x);  // w_ at x
+  void CoefficientsAt(const Eigen::Matrix<double, N, 1>& x);  // w_ at x
   ParameterLayout layout_;
   RecursiveGaussNewtonOptions options_;
   BasicKalmanUpdate<N, M> kalman_;
-  Eigen::VectorXd x_, x_trial_;
+  Eigen::VectorXd x_;
+  Eigen::Matrix<double, N, 1> x_trial_;  // fixed for the body: the step's arithmetic unrolled
   Eigen::Matrix<double, F, 1> w_;
   VectorM r_;
   Eigen::Matrix<double, M, N> H_;

@@ -21,7 +21,17 @@
 namespace inertial {
 
 /// P <- diag(d) P diag(d) - f W W^T on the lower triangle of P (see the file comment).
-void ScaledSymmetricRankUpdate(Eigen::MatrixXd& P, const Eigen::VectorXd& d,
+/// P may be a square block of a larger matrix (a diagonal block over the span of W's nonzero rows).
+void ScaledSymmetricRankUpdate(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> P, const Eigen::Ref<const Eigen::VectorXd>& d,
                                const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& W, double f);
+
+/// P <- P - f W W^T on the lower triangle of P, where W's column k is zero above row first[k] and
+/// first is ascending (W's columns sorted by where they begin; ones: n ones, the kernel's unit
+/// scaling). Column block j of P is updated with only the columns that have begun by its last
+/// column, in one pass over P: for a robot's block-triangular regressor (a joint's row is zero over
+/// the bodies before it), about F^2 m / 6 multiply-adds instead of F^2 m / 2 for a serial chain.
+void SymmetricSpanRankUpdate(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> P,
+                             const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& W, const int* first,
+                             const Eigen::Ref<const Eigen::VectorXd>& ones, double f);
 
 }  // namespace inertial

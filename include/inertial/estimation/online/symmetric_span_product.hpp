@@ -23,7 +23,15 @@ namespace inertial {
 inline constexpr int kSpanBlock = 4;
 
 /// out = sym(P) G over G's rows [c, e) (see the file comment).
-void SymmetricSpanProduct(const Eigen::MatrixXd& P, const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& G,
-                          int c, int e, Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> out);
+/// P may be a square block of a larger matrix (a diagonal block [c, e) x [c, e) of P with G's and
+/// out's rows [c, e) gives those rows of sym(P) G when G is zero outside them: a quadratic form
+/// over a span costs (e - c)^2, not n (e - c)).
+void SymmetricSpanProduct(const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& P,
+                          const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& G, int c, int e,
+                          Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> out);
+
+/// The span [first, end) of v's nonzero entries (first == end == 0 for a zero vector): a
+/// regressor row of a robot is nonzero only over the bodies its joint carries and its own effects.
+void NonzeroSpan(const Eigen::Ref<const Eigen::VectorXd>& v, int* first, int* end);
 
 }  // namespace inertial
