@@ -28,6 +28,16 @@
 namespace inertial {
 namespace {
 
+// A payload event's log line, with a pick-up as the controllers load it (the formatter of
+// `inertial payload`).
+std::string PayloadEventLine(const PayloadEvent& event) {
+  std::string text = PayloadEventText(event);
+  if (const std::optional<PayloadValues> p = PayloadValuesOf(event)) {
+    text += "; in " + event.link + "'s frame, URScript " + UrScriptPayload(*p) + ", Franka " + FrankaSetLoad(*p);
+  }
+  return text;
+}
+
 double NowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -491,11 +501,7 @@ void EstimationDaemon::Process(Sample* sample) {
         const std::vector<std::uint8_t> bytes = EncodePayloadEvent(*event);
         o->kind = Outgoing::kPayloadEvent;
         o->bytes.assign(bytes.begin(), bytes.end());
-        o->text = PayloadEventText(*event);
-        // A pick-up as the controllers load it (the formatter of `inertial payload`).
-        if (const std::optional<PayloadValues> p = PayloadValuesOf(*event)) {
-          o->text += "; in " + event->link + "'s frame, URScript " + UrScriptPayload(*p) + ", Franka " + FrankaSetLoad(*p);
-        }
+        o->text = PayloadEventLine(*event);
         impl_->outgoing.Commit();
         impl_->publisher_bell.Ring();
       }
@@ -742,6 +748,7 @@ void EstimationDaemon::SolveLoop(const std::atomic<bool>& stop) {
 
 void EstimationDaemon::FinishRun(std::int64_t utime) {
   // Estimation is over: the last publication, checkpoint and model file are written here, in order.
+  std::optional<PayloadEvent> last_event;
   if (robot_) {  // the final estimate: identify's fit of every sample kept, as replay's
     std::lock_guard<std::mutex> lock(process_mutex_);
     try {
@@ -749,6 +756,17 @@ void EstimationDaemon::FinishRun(std::int64_t utime) {
     } catch (const std::exception& e) {  // the checkpoint and the model are still written
       Log(LogLevel::kError, std::string("the final solve failed: ") + e.what());
     }
+    // A payload change confirmed but still settling when the stream stops is concluded on the
+    // samples there were, as replay concludes it at the end of a log (payload_event.hpp).
+    if (payload_events_) last_event = payload_events_->Flush(*robot_);
+  }
+  if (last_event) {  // the publisher has stopped: published here
+    const std::vector<std::uint8_t> bytes = EncodePayloadEvent(*last_event);
+    if (impl_->lcm.publish(options_.payload_channel, bytes.data(), static_cast<unsigned>(bytes.size())) == 0) {
+      std::lock_guard<std::mutex> sinks(sinks_mutex_);
+      ++payload_events_published_;
+    }
+    Log(LogLevel::kInfo, PayloadEventLine(*last_event));
   }
   Publish();
   FinalDiagnosis(utime);
