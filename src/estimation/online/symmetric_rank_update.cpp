@@ -83,6 +83,7 @@ void SymmetricSpanRankUpdate(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>
                               const Eigen::Ref<const Eigen::VectorXd>& ones, double f) {
   const int n = static_cast<int>(P.rows());
   INERTIAL_ASSERT(P.cols() == n && n % kSpanBlock == 0 && ones.size() == n && W.rows() == n && W.cols() >= 1);
+  INERTIAL_ASSERT((ones.array() == 1.0).all());  // the panels scale by it, the rest of P is not scaled
   const Eigen::Index ld = P.outerStride(), ldw = W.outerStride(), m = W.cols();
   double* p = P.data();
   const double* w = W.data();

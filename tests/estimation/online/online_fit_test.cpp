@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "estimation/leg_chain.hpp"
+#include "examples/bundled_robots.hpp"
 #include "inertial/estimation/fit_uncertainty.hpp"
 #include "inertial/inertia/log_det_divergence.hpp"
 #include "inertial/estimation/online/online_joint_estimator.hpp"
@@ -456,6 +457,79 @@ TEST(OnlineFit, StdsCountTheResidualsCorrelationAsIdentifysDo) {
   std::cerr << "effect stds, online over identify's blocks: " << lo << " to " << hi << " (" << uo.time_blocks
             << " blocks of " << uo.block_length << " samples against " << batch.time_blocks << " of "
             << batch.block_length << "); over the white-noise ones: at least " << inflation << "\n";
+}
+
+}  // namespace
+}  // namespace inertial
+
+namespace inertial {
+namespace {
+
+// The span-sorted statistics and gate (online_fit.hpp) against the dense formulas, tick by tick,
+// on the arm (7 rows: two groups of four) and a chain of 9 (three groups), with A's rows shuffled
+// and a fifth of them zeroed so that the sorting, the groups after the first and the zero rows are
+// all exercised: after every accepted sample S and s equal lambda (S, s) + A^T A, A^T y (the lower
+// triangle), and once solved every prediction scale equals sqrt(noise_j^2 + a_j^T C_w a_j) with the
+// adopted solution's C_w in full.
+TEST(OnlineFit, SpanSortedStatisticsAndGateEqualTheDenseFormulas) {
+  for (const int robot : {0, 1}) {
+    const RobotDynamics model =
+        robot == 0 ? examples::Arm7().Dynamics("viscous,coulomb") : examples::Chain(9).Dynamics("viscous");
+    const int m = model.num_dofs(), F = model.num_features(), P = model.num_parameters();
+    testing::Rng rng(31 + robot);
+    Eigen::VectorXd x_true(P);
+    for (int i = 0; i < P; ++i) x_true[i] = rng.Uniform(-0.2, 0.2);
+    const Eigen::VectorXd w_true = model.Coefficients(x_true);
+    OnlineFitOptions o;
+    o.warmup = 30;
+    OnlineFit fit(model, Eigen::VectorXd::Zero(P), o);
+    Eigen::MatrixXd Cw;  // the adopted solution's, once there is one
+    Eigen::MatrixXd A(m, F);
+    Eigen::VectorXd q(m), qd(m), qdd(m);
+    int gate_checks = 0, sum_checks = 0;
+    for (int tick = 0; tick < 800; ++tick) {
+      for (int j = 0; j < m; ++j) {
+        q[j] = rng.Uniform(-2, 2);
+        qd[j] = rng.Uniform(-2, 2);
+        qdd[j] = rng.Uniform(-2, 2);
+      }
+      model.Features(q, qd, qdd, A);
+      for (int j = m - 1; j > 0; --j) A.row(j).swap(A.row(static_cast<int>(rng.Uniform(0, j + 1)) % (j + 1)));
+      for (int j = 0; j < m; ++j) {
+        if (rng.Uniform(0, 1) < 0.2) A.row(j).setZero();
+      }
+      Eigen::VectorXd y = A * w_true;
+      for (int j = 0; j < m; ++j) y[j] += rng.Uniform(-0.01, 0.01);
+      const JointNormalEquations before = fit.Equations();
+      const std::uint64_t changes = fit.changes_detected();
+      const UpdateStatus status = fit.Update(1e-3 * (tick + 1), A, y);
+      if (Cw.size() > 0 && fit.changes_detected() == changes) {
+        const Eigen::MatrixXd C = Cw.selfadjointView<Eigen::Lower>();
+        for (int j = 0; j < m; ++j) {
+          const Eigen::VectorXd a = A.row(j).transpose();
+          const double expected = std::sqrt(fit.noise()[j] * fit.noise()[j] + std::max(0.0, a.dot(C * a)));
+          EXPECT_NEAR(fit.prediction_scale()[j], expected, 1e-9 * expected) << "tick " << tick << " row " << j;
+          ++gate_checks;
+        }
+      }
+      if (status == UpdateStatus::kAccepted) {
+        const JointNormalEquations after = fit.Equations();
+        const Eigen::MatrixXd S = before.AtA + A.transpose() * A;
+        const Eigen::VectorXd s = before.Atb + A.transpose() * y;
+        const Eigen::MatrixXd error = (after.AtA - S).triangularView<Eigen::Lower>();
+        EXPECT_LT(error.cwiseAbs().maxCoeff(), 1e-12 * S.cwiseAbs().maxCoeff()) << "tick " << tick;
+        EXPECT_LT((after.Atb - s).cwiseAbs().maxCoeff(), 1e-12 * s.cwiseAbs().maxCoeff()) << "tick " << tick;
+        ++sum_checks;
+      }
+      if (fit.solve_due()) {
+        const OnlineFitSolution sol = SolveOnlineFit(model, fit.Snapshot(), fit.options());
+        fit.Adopt(sol);
+        if (sol.prediction_covariance.rows() == F) Cw = sol.prediction_covariance;
+      }
+    }
+    EXPECT_GT(gate_checks, 1000) << "the gate ran";
+    EXPECT_GT(sum_checks, 500) << "samples were accepted";
+  }
 }
 
 }  // namespace
