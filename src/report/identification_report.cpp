@@ -146,6 +146,14 @@ void WriteFitSummary(std::ostringstream& out, const RobotDynamics& model, const 
         << FormatNumber(o.threshold, 3) << " robust standard deviations of the residual), e.g.\n";
     for (const std::string& r : o.reasons) out << "    " << r << "\n";
   }
+  if (o.rows_by_run.size() > 1) {  // each run screened by its own spread (robust_identification.hpp)
+    out << "  runs (in --data order): rows left out as outliers, and the robust scale of the residual per joint\n";
+    for (std::size_t r = 0; r < o.rows_by_run.size(); ++r) {
+      out << "    run " << r + 1 << ": " << o.rejected_by_run[r] << " of " << o.rows_by_run[r] << " rows left out; scale";
+      for (int j = 0; j < o.run_scale.cols(); ++j) out << " " << FormatNumber(o.run_scale(static_cast<Eigen::Index>(r), j), 4);
+      out << " N m\n";
+    }
+  }
   out << "  cost: data " << FormatNumber(fit.data_cost, 6) << " N^2 m^2, regularizer " << FormatNumber(fit.regularizer, 6)
       << "\n\n";
 }
@@ -476,6 +484,17 @@ nlohmann::json IdentificationJson(const RobotDynamics& model, const Identificati
                    {"scale", scale},
                    {"rounds", o.rounds},
                    {"reasons", o.reasons}};
+  if (o.rows_by_run.size() > 1) {
+    nlohmann::json by_run = nlohmann::json::array();
+    for (std::size_t r = 0; r < o.rows_by_run.size(); ++r) {
+      nlohmann::json s = nlohmann::json::object();
+      for (int k = 0; k < model.num_dofs() && k < o.run_scale.cols(); ++k) {
+        s[model.dof_names()[static_cast<std::size_t>(k)]] = o.run_scale(static_cast<Eigen::Index>(r), k);
+      }
+      by_run.push_back({{"rows", o.rows_by_run[r]}, {"rejected", o.rejected_by_run[r]}, {"scale", s}});
+    }
+    j["outliers"]["by_run"] = by_run;
+  }
   j["physically_consistent"] = all_consistent;
   bool all_plausible = true;
   for (const auto& b : j["bodies"]) {

@@ -268,6 +268,7 @@ int RunIdentifyCommand(const IdentifyCommand& c) {
     return kInvalidValue;
   }
   IdentificationRun run;
+  outliers.run_starts = runs.starts;  // each run screened by its own spread
   status = Fit(data, *model, train, c.validate.empty() ? nullptr : &validation, options, outliers, &run);
   if (status != kOk) return status;
   NameSamplesByLine(c.data, runs.starts, train_lines, &run.outliers.reasons);  // rejected rows by their file and line

@@ -92,31 +92,36 @@ Eigen::MatrixXd Residuals(const RobotDynamics& model, const JointSamples& data, 
 struct Classification {
   std::vector<int> rejected;          // candidate rows rejected, ascending
   std::vector<std::string> reasons;   // for the first kReasonRows of them
-  Eigen::VectorXd center, scale;
+  Eigen::MatrixXd center, scale;      // per run (rows) and joint
 };
 
-/// Rows whose residual is non-finite, or beyond k s_j of m_j for some joint j.
+/// Rows whose residual is non-finite, or beyond k s_j of m_j for some joint j, with m_j and s_j
+/// those of the row's run (run_of: each candidate's run).
 Classification Classify(const JointSamples& data, const std::vector<int>& candidates, const Eigen::MatrixXd& residuals,
-                        double k, const Eigen::VectorXd& scale_floor, const std::string& model_name) {
-  const int n = static_cast<int>(residuals.cols());
+                        double k, const Eigen::MatrixXd& scale_floor, const std::vector<int>& run_of,
+                        const std::string& model_name) {
+  const int n = static_cast<int>(residuals.cols()), runs = static_cast<int>(scale_floor.rows());
   Classification c;
-  c.center.resize(n);
-  c.scale.resize(n);
+  c.center.resize(runs, n);
+  c.scale.resize(runs, n);
   std::vector<double> column;
   column.reserve(candidates.size());
-  for (int j = 0; j < n; ++j) {
-    column.clear();
-    for (Eigen::Index r = 0; r < residuals.rows(); ++r) {
-      if (std::isfinite(residuals(r, j))) column.push_back(residuals(r, j));
+  for (int run = 0; run < runs; ++run) {
+    for (int j = 0; j < n; ++j) {
+      column.clear();
+      for (Eigen::Index r = 0; r < residuals.rows(); ++r) {
+        if (run_of[static_cast<std::size_t>(r)] == run && std::isfinite(residuals(r, j))) column.push_back(residuals(r, j));
+      }
+      double median = 0.0, mad = 0.0;
+      if (!column.empty()) std::tie(median, mad) = MedianAndMad(column);
+      c.center(run, j) = median;
+      c.scale(run, j) = std::max(kMadToSigma * mad, scale_floor(run, j));
     }
-    double median = 0.0, mad = 0.0;
-    if (!column.empty()) std::tie(median, mad) = MedianAndMad(column);
-    c.center[j] = median;
-    c.scale[j] = std::max(kMadToSigma * mad, scale_floor[j]);
   }
   for (std::size_t row = 0; row < candidates.size(); ++row) {
     const auto r = residuals.row(static_cast<Eigen::Index>(row));
     const int i = candidates[row];
+    const Eigen::Index run = run_of[row];
     if (!r.allFinite()) {
       c.rejected.push_back(i);
       if (static_cast<int>(c.reasons.size()) < kReasonRows) {
@@ -128,7 +133,7 @@ Classification Classify(const JointSamples& data, const std::vector<int>& candid
     int worst = 0;
     double worst_ratio = -1.0;
     for (int j = 0; j < n; ++j) {
-      const double ratio = std::abs(r[j] - c.center[j]) / c.scale[j];
+      const double ratio = std::abs(r[j] - c.center(run, j)) / c.scale(run, j);
       if (ratio > worst_ratio) {
         worst_ratio = ratio;
         worst = j;
@@ -138,8 +143,8 @@ Classification Classify(const JointSamples& data, const std::vector<int>& candid
     c.rejected.push_back(i);
     if (static_cast<int>(c.reasons.size()) < kReasonRows) {
       c.reasons.push_back(Where(data, i) + ": residual of the " + model_name + " on " + data.joint_names[worst] + " " +
-                          FormatNumber(r[worst], 4) + " (median " + FormatNumber(c.center[worst], 4) + "), beyond k s = " + FormatNumber(k, 4) +
-                          " x " + FormatNumber(c.scale[worst], 4) + " = " + FormatNumber(k * c.scale[worst], 4));
+                          FormatNumber(r[worst], 4) + " (median " + FormatNumber(c.center(run, worst), 4) + "), beyond k s = " + FormatNumber(k, 4) +
+                          " x " + FormatNumber(c.scale(run, worst), 4) + " = " + FormatNumber(k * c.scale(run, worst), 4));
     }
   }
   return c;
@@ -150,6 +155,7 @@ Classification Classify(const JointSamples& data, const std::vector<int>& candid
 Eigen::VectorXd ScaleFloor(const JointSamples& data, const std::vector<int>& candidates, double k) {
   const int n = static_cast<int>(data.tau.cols());
   Eigen::VectorXd floor(n);
+  if (candidates.empty()) return Eigen::VectorXd::Constant(n, kAbsoluteScaleFloor);  // a run of only bad rows
   std::vector<double> column(candidates.size());
   for (int j = 0; j < n; ++j) {
     for (std::size_t r = 0; r < candidates.size(); ++r) column[r] = data.tau(candidates[r], j);
@@ -193,8 +199,10 @@ void Report(const std::vector<int>& non_finite, const std::vector<std::string>& 
       break;
     }
   }
-  report->center = c.center;
-  report->scale = c.scale;
+  report->run_center = c.center;
+  report->run_scale = c.scale;
+  report->center = c.center.row(0).transpose();
+  report->scale = c.scale.row(0).transpose();
 }
 
 /// Step 1 of the robust fit: the rows that stay candidates (their residuals by the prior, in order)
@@ -276,8 +284,25 @@ RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, 
   // Step 2: the prior's residuals.
   const double k = outliers.threshold > 0.0 ? outliers.threshold
                                             : DefaultOutlierThreshold(static_cast<long long>(candidates.size()) * n);
-  const Eigen::VectorXd floor = ScaleFloor(data, candidates, k);
-  Classification current = Classify(data, candidates, residuals, k, floor, "prior");
+  // The runs (OutlierOptions::run_starts): each candidate's, and the scale floor of each.
+  const std::vector<int> starts = outliers.run_starts.empty() ? std::vector<int>{0, N} : outliers.run_starts;
+  const int runs = static_cast<int>(starts.size()) - 1;
+  if (runs < 1 || starts.front() != 0 || starts.back() != N || !std::is_sorted(starts.begin(), starts.end())) {
+    throw std::invalid_argument("robust identification: run_starts must rise from 0 to the number of samples");
+  }
+  std::vector<int> run_of(candidates.size());
+  for (std::size_t r = 0; r < candidates.size(); ++r) {
+    run_of[r] = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), candidates[r]) - starts.begin()) - 1;
+  }
+  Eigen::MatrixXd floor(runs, n);
+  for (int run = 0; run < runs; ++run) {
+    std::vector<int> in_run;
+    for (std::size_t r = 0; r < candidates.size(); ++r) {
+      if (run_of[r] == run) in_run.push_back(candidates[r]);
+    }
+    floor.row(run) = ScaleFloor(data, in_run, k).transpose();
+  }
+  Classification current = Classify(data, candidates, residuals, k, floor, run_of, "prior");
 
   // Step 3: fit on the kept rows, classify every row by that fit, until the set is unchanged.
   OutlierReport& report = result.outliers;
@@ -292,7 +317,7 @@ RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, 
     result.fit = IdentifyJointModel(model, result.equations, options);
     report.rounds = round;
     residuals = Residuals(model, data, candidates, model.Coefficients(result.fit.x));
-    Classification next = Classify(data, candidates, residuals, k, floor, "fit");
+    Classification next = Classify(data, candidates, residuals, k, floor, run_of, "fit");
     if (next.rejected == current.rejected) {
       report.settled = true;
       current = std::move(next);  // the same rows; scales and reasons of the returned fit
@@ -302,6 +327,12 @@ RobustIdentificationResult IdentifyJointModelRobust(const RobotDynamics& model, 
     current = std::move(next);
   }
   Report(non_finite, non_finite_reasons, current, &report);
+  report.rows_by_run.assign(static_cast<std::size_t>(runs), 0);
+  report.rejected_by_run.assign(static_cast<std::size_t>(runs), 0);
+  for (int run = 0; run < runs; ++run) report.rows_by_run[static_cast<std::size_t>(run)] = starts[run + 1] - starts[run];
+  for (int i : report.rejected) {
+    ++report.rejected_by_run[static_cast<std::size_t>(std::upper_bound(starts.begin(), starts.end(), i) - starts.begin() - 1)];
+  }
   return result;
 }
 

@@ -136,6 +136,47 @@ TEST(OutlierRejection, CleanDataLosesNoRow) {
   }
 }
 
+// Two runs laid end to end, one noise-free and one with 0.2 N m of noise (as a simulated baseline
+// and a real run): judged by one spread over both, the noisy run's rows fall outside the quiet
+// one's; judged run by run (OutlierOptions::run_starts) no row goes, each run's scale is its own
+// (the fit's error for the quiet run; the noise for the other), and a glitch
+// in the quiet run, well inside the noisy run's spread, is still found.
+TEST(OutlierRejection, RunsAreScreenedEachByItsOwnSpread) {
+  const Case c = MakeCase();
+  Rng rng(4);
+  const JointSamples quiet = ExciteLeg(c.truth, c.x_true, 3000, 0.005, 0.0, rng, 0.0);
+  const JointSamples noisy = ExciteLeg(c.truth, c.x_true, 3000, 0.005, 0.2, rng, 0.0);
+  JointSamples both = quiet;
+  const int N = 6000;
+  for (Eigen::MatrixXd* m : {&both.q, &both.qd, &both.qdd, &both.tau}) m->conservativeResize(N, Eigen::NoChange);
+  both.t.conservativeResize(N);
+  both.q.bottomRows(3000) = noisy.q;
+  both.qd.bottomRows(3000) = noisy.qd;
+  both.qdd.bottomRows(3000) = noisy.qdd;
+  both.tau.bottomRows(3000) = noisy.tau;
+  both.t.tail(3000) = noisy.t.array() + quiet.t[2999] + 1.0;
+  const RobustIdentificationResult pooled = IdentifyJointModelRobust(c.model, both, JointIdentificationOptions());
+  EXPECT_GT(pooled.outliers.rejected.size(), 500u) << "one spread over both runs";
+  OutlierOptions by_run;
+  by_run.run_starts = {0, 3000, N};
+  both.tau(1000, 1) += 0.1;  // a glitch of half the noisy run's standard deviation, in the quiet run
+  const RobustIdentificationResult r = IdentifyJointModelRobust(c.model, both, JointIdentificationOptions(), by_run);
+  EXPECT_EQ(r.outliers.rejected, std::vector<int>{1000}) << FirstReason(r.outliers);
+  EXPECT_EQ(r.outliers.rows_by_run, (std::vector<int>{3000, 3000}));
+  EXPECT_EQ(r.outliers.rejected_by_run, (std::vector<int>{1, 0}));
+  ASSERT_EQ(r.outliers.run_scale.rows(), 2);
+  for (int j = 0; j < 3; ++j) {
+    // The quiet run's residual is the fit's own error (the noisy run moves the unweighted fit):
+    // seen 0.002-0.004 N m, a fiftieth of the noisy run's spread.
+    EXPECT_LT(r.outliers.run_scale(0, j), 0.1 * r.outliers.run_scale(1, j)) << j;
+    EXPECT_NEAR(r.outliers.run_scale(1, j), 0.2, 0.02) << j;
+    EXPECT_EQ(r.outliers.scale[j], r.outliers.run_scale(0, j));
+  }
+  OutlierOptions bad;
+  bad.run_starts = {0, 4000, 3000, N};
+  EXPECT_THROW(IdentifyJointModelRobust(c.model, both, JointIdentificationOptions(), bad), std::invalid_argument);
+}
+
 // One glitched torque: exactly its row goes, and the fit is the plain fit without it (bit for bit).
 // Seen: held-out RMS 0.00790 N m against 0.00797 for the fit of the clean log; the plain fit 197.
 TEST(OutlierRejection, OneGlitchedTorqueIsRejectedAndTheFitIsThatOfTheOtherRows) {

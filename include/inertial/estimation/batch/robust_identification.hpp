@@ -55,13 +55,20 @@ struct OutlierOptions {
   bool enabled = true;      ///< false: IdentifyJointModel on all rows, exactly
   double threshold = 0.0;   ///< k in robust standard deviations; 0: from the number of residuals (above)
   int max_rounds = 5;       ///< fits at most (each followed by a new rejected set), >= 1
+  /// Several runs laid end to end (RecordedRuns::starts: each run's first row, then the number of
+  /// rows): the center m_j and scale s_j of steps 2 and 3, and the scale floor, are found run by
+  /// run, so that a quiet run is not judged by a noisy one's spread nor a noisy one by a quiet
+  /// one's (two runs of which one is noise-free would otherwise lose the other whole). Empty: one run.
+  std::vector<int> run_starts;
 };
 
 struct OutlierReport {
   std::vector<int> rejected;        ///< sample indices left out of the fit, ascending
   std::vector<int> non_finite;      ///< those of them rejected in step 1 (non-finite values), ascending
-  Eigen::VectorXd scale;            ///< per joint robust residual scale s_j (floored) that decided `rejected` [N m or N]
-  Eigen::VectorXd center;           ///< per joint median residual m_j of the same classification [N m or N]
+  Eigen::VectorXd scale;            ///< per joint robust residual scale s_j (floored) that decided `rejected` [N m or N] (the first run's)
+  Eigen::VectorXd center;           ///< per joint median residual m_j of the same classification [N m or N] (the first run's)
+  Eigen::MatrixXd run_scale, run_center;  ///< the same per run (rows) and joint (columns)
+  std::vector<int> rejected_by_run, rows_by_run;  ///< rows left out and rows, per run
   double threshold = 0.0;           ///< the k used
   int rounds = 0;                   ///< fits done
   bool settled = false;             ///< the last fit's residuals gave the same rejected set (false: max_rounds hit)
