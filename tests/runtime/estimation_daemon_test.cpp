@@ -87,14 +87,17 @@ const Stream& LegStream() {
   return s;
 }
 
-struct Captured {
+// The messages of one LCM type the daemon published, as its receiver thread hands them over.
+template <class Message>
+struct CapturedMessages {
   std::mutex mutex;
-  std::vector<inertial::estimate_t> estimates;
-  void Handle(const lcm::ReceiveBuffer*, const std::string&, const inertial::estimate_t* m) {
+  std::vector<Message> messages;
+  void Handle(const lcm::ReceiveBuffer*, const std::string&, const Message* m) {
     std::lock_guard<std::mutex> lock(mutex);
-    estimates.push_back(*m);
+    messages.push_back(*m);
   }
 };
+using Captured = CapturedMessages<inertial::estimate_t>;
 
 DaemonOptions MemqOptions() {
   DaemonOptions o;
@@ -203,8 +206,8 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
 
   // The exit publication: the final estimate, consistent bodies, the counters.
   std::lock_guard<std::mutex> lock(captured.mutex);
-  ASSERT_FALSE(captured.estimates.empty());
-  const inertial::estimate_t& e = captured.estimates.back();
+  ASSERT_FALSE(captured.messages.empty());
+  const inertial::estimate_t& e = captured.messages.back();
   EXPECT_EQ(e.estimator, "gauss_newton");
   ASSERT_EQ(e.num_bodies, 3);
   ASSERT_EQ(model.num_features(), 30);  // the leg without effects: the features are the bodies' pi
@@ -331,9 +334,9 @@ TEST(EstimationDaemon, CountsSamplesLostBeforeItApartFromDropped) {
   EXPECT_EQ(c.lost, left_out.size());
   {
     std::lock_guard<std::mutex> lock(captured.mutex);
-    ASSERT_FALSE(captured.estimates.empty());
-    EXPECT_EQ(captured.estimates.back().lost, static_cast<std::int64_t>(left_out.size()));  // the status message
-    EXPECT_EQ(captured.estimates.back().dropped, 0);
+    ASSERT_FALSE(captured.messages.empty());
+    EXPECT_EQ(captured.messages.back().lost, static_cast<std::int64_t>(left_out.size()));  // the status message
+    EXPECT_EQ(captured.messages.back().dropped, 0);
   }
   EXPECT_EQ(c.gaps, 3u);
   EXPECT_NEAR(c.median_interval_s, 1.0 / 200, 1e-9);
@@ -675,14 +678,8 @@ TEST(EstimationDaemon, APayloadChangeStillSettlingWhenTheStreamStopsIsPublishedA
   o.lcm_url = "memq://";
   o.log_level = LogLevel::kError;
   EstimationDaemon daemon(model, o);
-  struct Events {
-    std::mutex mutex;
-    std::vector<inertial::payload_event_t> events;
-    void Handle(const lcm::ReceiveBuffer*, const std::string&, const inertial::payload_event_t* m) {
-      std::lock_guard<std::mutex> lock(mutex);
-      events.push_back(*m);
-    }
-  } captured;
+  using Events = CapturedMessages<inertial::payload_event_t>;
+  Events captured;
   daemon.lcm().subscribe(o.payload_channel, &Events::Handle, &captured);
   std::atomic<bool> stop{false};
   DaemonRunner runner{stop, std::thread([&] { daemon.Run(stop); })};
@@ -704,8 +701,8 @@ TEST(EstimationDaemon, APayloadChangeStillSettlingWhenTheStreamStopsIsPublishedA
   }
   EXPECT_EQ(daemon.counters().payload_events, 1u) << daemon.CountersText();
   std::lock_guard<std::mutex> lock(captured.mutex);
-  ASSERT_EQ(captured.events.size(), 1u);
-  const inertial::payload_event_t& e = captured.events[0];
+  ASSERT_EQ(captured.messages.size(), 1u);
+  const inertial::payload_event_t& e = captured.messages[0];
   std::printf("event: %s %+.3f +- %.3f kg, onset %.2f s, settled %d, runner-up %s by %.2f\n", e.link.c_str(),
               e.added_mass, e.added_mass_std, e.onset_utime * 1e-6, static_cast<int>(e.settled),
               e.runner_up_link.c_str(), e.runner_up_margin);
@@ -905,7 +902,7 @@ std::vector<inertial::estimate_t> RunOn(EstimationDaemon& daemon, const Stream& 
   }  // the exit publication, sent after the receiver thread stopped
   daemon.lcm().unsubscribe(subscription);
   std::lock_guard<std::mutex> lock(captured.mutex);
-  return captured.estimates;
+  return captured.messages;
 }
 
 double KneeRms(const inertial::estimate_t& e) {
