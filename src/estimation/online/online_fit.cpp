@@ -370,8 +370,11 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   }
   if (!WithinGate(r_, center_, gate_scale_, gate_)) {
     // Held for the next solve, which judges it with the fit that includes it; a run longer than
-    // max_consecutive_outliers is a change of the system: start over from the current estimate.
-    if (++consecutive_ <= options_.max_consecutive_outliers) {
+    // max_consecutive_outliers, which a solve has judged and still refused, is a change of the
+    // system: start over from the current estimate. A run no solve has judged yet is only a gate
+    // that has fallen behind (a solver thread slowed by a loaded machine, its estimate many samples
+    // old): the statistics are kept, and what finds no room to wait is refused.
+    if (++consecutive_ <= options_.max_consecutive_outliers || !run_judged_) {
       if (pending_count_ >= capacity_) return UpdateStatus::kOutlier;  // no room left before the next solve
       Hold(A, y);
       return UpdateStatus::kBuffered;
@@ -383,6 +386,7 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
     return UpdateStatus::kBuffered;
   }
   consecutive_ = 0;
+  run_judged_ = false;
   Accumulate(y, lambda);
   return UpdateStatus::kAccepted;
 }
@@ -406,6 +410,7 @@ void OnlineFit::Empty() {
   pending_count_ = 0;
   has_scale_ = false;
   consecutive_ = 0;
+  run_judged_ = false;
   added_since_solve_ = 0.0;
   ResetBlocks();
   ++generation_;
@@ -493,7 +498,12 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
       pending_y_.leftCols(rest) = pending_y_.middleCols(judged, rest).eval();
     }
     pending_count_ = rest;
-    if (all_kept) consecutive_ = 0;
+    if (all_kept) {
+      consecutive_ = 0;
+      run_judged_ = false;
+    } else if (consecutive_ > 0) {
+      run_judged_ = true;  // the run (or its start) refused by a fit that includes it
+    }
     EndBlockIfDue();
   }
   if (sol.prediction_covariance.rows() == F_ && sol.prediction_covariance.cols() == F_) {
@@ -609,6 +619,7 @@ void OnlineFit::RestoreExtra(const EstimatorState& state) {
   window_next_ = 0;
   has_scale_ = false;
   consecutive_ = 0;
+  run_judged_ = false;
   // The checkpoint keeps the sums, not the blocks: blocks of the samples from here on.
   ResetBlocks();
   ++generation_;

@@ -269,6 +269,53 @@ TEST(OnlineFit, AnAbruptChangeStartsTheStatisticsOver) {
   EXPECT_LT(est.fit()->effective_samples(), after.train.size());
 }
 
+// The same change with a solver that has fallen behind (inertiald's solver thread on a loaded
+// machine): while no solve has judged the run of refused samples, it is not taken for a change; the
+// statistics of the first body stay whole, and the samples with no room left to wait are refused.
+// Once a solve including the held samples refuses them too, the next refusal starts over.
+TEST(OnlineFit, ARunNoSolveHasJudgedIsNotAChange) {
+  const RobotDynamics model = PriorLeg();
+  const Eigen::VectorXd x_before = testing::TrueParameters(model, {0.0}, 10, 0.1);
+  Eigen::VectorXd x_after = x_before;
+  x_after[20] += 0.5 * std::log(1.0 + 1.5 / model.BodyInertia(2, x_before).mass());  // shank: + 1.5 kg
+  const testing::SimulatedLogs before = testing::SimulateLogs(model, x_before, 0.02, 6.0, 10, 250);
+  const testing::SimulatedLogs after = testing::SimulateLogs(model, x_after, 0.02, 6.0, 11, 250);
+  OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()));
+  JointSample s;
+  for (int i = 0; i < before.train.size(); ++i) {
+    CopySample(before.train, i, &s);
+    est.Update(s);
+    if (est.SolveDue()) est.Solve();
+  }
+  est.Solve();
+  const std::uint64_t kept = est.fit()->Equations().num_samples;
+  const std::uint64_t outliers = est.estimator().counters()[UpdateStatus::kOutlier];
+  ASSERT_GT(kept, static_cast<std::uint64_t>(before.train.size() * 9 / 10));
+  const int lagging = 200;  // 0.8 s at 250 Hz with no solve
+  for (int i = 0; i < lagging; ++i) {
+    CopySample(after.train, i, &s);
+    s.t += 6.5;
+    est.Update(s);
+  }
+  EXPECT_EQ(est.estimator().changes_detected(), 0u);
+  EXPECT_EQ(est.fit()->Equations().num_samples, kept);  // the first body's statistics whole
+  const int held = est.fit()->Snapshot().pending_y.cols();
+  EXPECT_EQ(held, est.fit()->options().max_consecutive_outliers);  // the held are the run's first
+  EXPECT_EQ(est.estimator().counters()[UpdateStatus::kOutlier] - outliers, static_cast<std::uint64_t>(lagging - held));
+  est.Solve();  // judges the held samples: refused by the fit that includes them
+  EXPECT_EQ(est.estimator().changes_detected(), 0u);
+  for (int i = lagging; i < after.train.size(); ++i) {
+    CopySample(after.train, i, &s);
+    s.t += 6.5;
+    est.Update(s);
+    if (est.SolveDue()) est.Solve();
+  }
+  est.Solve();
+  EXPECT_EQ(est.estimator().changes_detected(), 1u);
+  const double m_after = model.BodyInertia(2, x_after).mass(), m_before = model.BodyInertia(2, x_before).mass();
+  EXPECT_LT(std::abs(est.Body(2).mass() - m_after), 0.5 * std::abs(est.Body(2).mass() - m_before));
+}
+
 TEST(OnlineFit, BadOptionsThrow) {
   const RobotDynamics model = PriorLeg();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(model.num_parameters());

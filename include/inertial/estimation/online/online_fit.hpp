@@ -60,8 +60,11 @@
 /// are kept: the stds are the white-noise ones.
 ///
 /// A change of the system (a payload picked up): more than `max_consecutive_outliers` samples in a
-/// row refused. The statistics are then emptied and the estimator starts over from its current
-/// estimate, warm-up included (the old samples describe another body).
+/// row refused, and a solve that included the run's held samples refused them too. The statistics
+/// are then emptied and the estimator starts over from its current estimate, warm-up included (the
+/// old samples describe another body). A run no solve has judged yet is a solver that fell behind
+/// (inertiald's solver thread on a loaded machine): the statistics stay, and the samples that find
+/// no room among the held ones meanwhile are refused (kOutlier).
 ///
 /// Conventions: SI units; joint rows in the model's DOF order.
 #pragma once
@@ -264,6 +267,7 @@ class OnlineFit final : public RecursiveEstimator {
   std::uint64_t held_kept_ = 0, held_refused_ = 0;
   long long residuals_seen_ = 0;
   int consecutive_ = 0, solves_ = 0;
+  bool run_judged_ = false;  ///< a solve has refused samples of the current run of refusals
   std::uint64_t changes_ = 0, generation_ = 0;
 };
 
