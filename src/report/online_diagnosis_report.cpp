@@ -77,7 +77,7 @@ std::string OnlineCandidateExplanation(const OnlineCandidate& c) {
                                   ? "[" + FormatNumber(c.values[1] / m, 3) + ", " + FormatNumber(c.values[2] / m, 3) + ", " + FormatNumber(c.values[3] / m, 3) + "]"
                                   : "[]";
       return c.link + " is estimated heavier than its URDF beyond the tolerance: a payload of " + FormatNumber(m, 3) +
-             " kg with its centre of mass at " + com + " m (link frame) takes it back to its URDF (or that URDF is wrong)";
+             " kg with its centre of mass at " + com + " m (link frame), within the robot's reach of it, takes it back to its URDF (or that URDF is wrong)";
     }
     default:
       return c.name;
@@ -104,8 +104,12 @@ std::string OnlineDiagnosisText(const OnlineDiagnosisResult& r) {
   for (size_t i = 0; i < r.candidates.size(); ++i) {
     const OnlineCandidate& c = r.candidates[i];
     if (Suggested(c)) {
-      out << "  " << ++shown << ". " << c.item << ": explains " << Percent(c.evidence.explained)
-          << " of the held-out error" << (c.kind == EffectKind::kPayload ? ", restores " + Percent(c.evidence.restored) + " of the links' plausibility" : "")
+      // A payload explains a bent link, not the error: it and its link share the link's columns, so
+      // the prediction is the same with either (held_payload_fit.hpp).
+      out << "  " << ++shown << ". " << c.item << ": "
+          << (c.kind == EffectKind::kPayload
+                  ? "restores " + Percent(c.evidence.restored) + " of the links' plausibility (the same torques: a payload and its link share their columns)"
+                  : "explains " + Percent(c.evidence.explained) + " of the held-out error")
           << " [" << Evidence(c.evidence) << "]\n     " << OnlineCandidateExplanation(c) << "\n";
     }
   }
