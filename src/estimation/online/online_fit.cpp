@@ -330,14 +330,13 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   residuals_seen_ += m_;
   const double lambda =
       (has_time() && std::isfinite(options_.forgetting_time)) ? std::exp(-(applying_time() - last_time()) / options_.forgetting_time) : 1.0;
-  if (!has_scale_) {
-    if (pending_count_ < capacity_) {
-      Hold(A, y);
-      return UpdateStatus::kBuffered;
-    }
-    // The caller has not solved since the warm-up filled: nothing to judge by yet.
-    Ar_ = A.transpose();
-    LoadRows(Ar_);
+  if (!has_scale_ && pending_count_ < capacity_) {
+    Hold(A, y);
+    return UpdateStatus::kBuffered;
+  }
+  Ar_ = A.transpose();
+  LoadRows(Ar_);
+  if (!has_scale_) {  // the caller has not solved since the warm-up filled: nothing to judge by yet
     Accumulate(y, lambda);
     return UpdateStatus::kAccepted;
   }
@@ -346,8 +345,6 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   // A's rows sorted by where they begin (LoadRows), four at a time: each group's quadratic forms
   // over the diagonal block of its span alone, (e - c)^2 per group instead of F^2
   // (symmetric_span_product.hpp).
-  Ar_ = A.transpose();
-  LoadRows(Ar_);
   for (int g0 = 0; g0 < m_; g0 += kSpanBlock) {
     const int g1 = std::min(g0 + kSpanBlock, m_);
     int c = Fp_, e = 0;
