@@ -214,6 +214,8 @@ OnlineFit::OnlineFit(RobotDynamics model, const Eigen::VectorXd& x0, const Onlin
   capacity_ = std::max(options.warmup, options.max_consecutive_outliers);
   pending_rows_ = Eigen::MatrixXd::Zero(F_, static_cast<Eigen::Index>(m_) * capacity_);
   pending_y_ = Eigen::MatrixXd::Zero(m_, capacity_);
+  pending_place_.assign(static_cast<size_t>(capacity_), 0);
+  pending_run_.assign(static_cast<size_t>(capacity_), 0);
   if (!std::isfinite(options.forgetting_time)) {  // time blocks (header): preallocated, none with forgetting
     ends_S_.assign(kMaxTimeBlocks + 1, Eigen::MatrixXd::Zero(F_, F_));
     ends_s_.assign(kMaxTimeBlocks + 1, Eigen::VectorXd::Zero(F_));
@@ -371,9 +373,10 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
     // system: start over from the current estimate. A run no solve has judged yet is only a gate
     // that has fallen behind (a solver thread slowed by a loaded machine, its estimate many samples
     // old): the statistics are kept, and what finds no room to wait is refused.
+    if (consecutive_ == 0) ++run_id_;
     if (++consecutive_ <= options_.max_consecutive_outliers || !run_judged_) {
       if (pending_count_ >= capacity_) return UpdateStatus::kOutlier;  // no room left before the next solve
-      Hold(A, y);
+      Hold(A, y, consecutive_);
       return UpdateStatus::kBuffered;
     }
     ++changes_;
@@ -388,9 +391,11 @@ UpdateStatus OnlineFit::Apply(const Eigen::MatrixXd& A, const Eigen::VectorXd& y
   return UpdateStatus::kAccepted;
 }
 
-void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+void OnlineFit::Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, int place) {
   pending_rows_.middleCols(static_cast<Eigen::Index>(pending_count_) * m_, m_) = A.transpose();
   pending_y_.col(pending_count_) = y;
+  pending_place_[static_cast<size_t>(pending_count_)] = place;
+  pending_run_[static_cast<size_t>(pending_count_)] = run_id_;
   ++pending_count_;
 }
 
@@ -475,13 +480,31 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
     // The held samples the solve kept join the statistics (at their weight now: they are
     // recent); those it refused are counted as outliers; those held after the snapshot stay.
     const int judged = std::min(static_cast<int>(sol.pending_kept.size()), pending_count_);
-    bool all_kept = true;
+    // The current run of refusals (places 1, 2, ... in it): the samples up to the last one of it the
+    // solve kept no longer count; the rest of the run is judged only if the solve refused one of it
+    // after that (a refusal of an earlier run, or before a kept sample, judges nothing of it).
+    const auto in_run = [&](int i) {
+      return consecutive_ > 0 && pending_place_[static_cast<size_t>(i)] > 0 && pending_run_[static_cast<size_t>(i)] == run_id_;
+    };
+    int last_kept = 0;
+    bool run_seen = false;
+    for (int i = 0; i < judged; ++i) {
+      if (!in_run(i)) continue;
+      run_seen = true;
+      if (sol.pending_kept[i]) last_kept = std::max(last_kept, pending_place_[static_cast<size_t>(i)]);
+    }
+    bool refused_after = false;
+    for (int i = 0; i < judged; ++i) {
+      refused_after = refused_after || (in_run(i) && !sol.pending_kept[i] && pending_place_[static_cast<size_t>(i)] > last_kept);
+    }
+    if (run_seen) {
+      consecutive_ -= last_kept;
+      run_judged_ = (last_kept > 0 ? false : run_judged_) || refused_after;
+      if (consecutive_ == 0) run_judged_ = false;
+    }
     for (int i = 0; i < judged; ++i) {
       ResolveHeld(sol.pending_kept[i]);
-      if (!sol.pending_kept[i]) {
-        all_kept = false;
-        continue;
-      }
+      if (!sol.pending_kept[i]) continue;
       LoadRows(pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_));
       AddAtToS();
       s_.noalias() += pending_rows_.middleCols(static_cast<Eigen::Index>(i) * m_, m_) * pending_y_.col(i);
@@ -494,13 +517,13 @@ bool OnlineFit::Adopt(const OnlineFitSolution& sol) {
           pending_rows_.middleCols(static_cast<Eigen::Index>(judged) * m_, static_cast<Eigen::Index>(rest) * m_).eval();
       pending_y_.leftCols(rest) = pending_y_.middleCols(judged, rest).eval();
     }
-    pending_count_ = rest;
-    if (all_kept) {
-      consecutive_ = 0;
-      run_judged_ = false;
-    } else if (consecutive_ > 0) {
-      run_judged_ = true;  // the run (or its start) refused by a fit that includes it
+    for (int i = 0; i < rest; ++i) {  // their places in the run, counted from its new start
+      const size_t from = static_cast<size_t>(judged + i), to = static_cast<size_t>(i);
+      const bool same_run = pending_place_[from] > 0 && pending_run_[from] == run_id_;
+      pending_place_[to] = same_run ? pending_place_[from] - last_kept : pending_place_[from];
+      pending_run_[to] = pending_run_[from];
     }
+    pending_count_ = rest;
     EndBlockIfDue();
   }
   if (sol.prediction_covariance.rows() == F_ && sol.prediction_covariance.cols() == F_) {

@@ -223,7 +223,8 @@ class OnlineFit final : public RecursiveEstimator {
   void LoadRows(const Eigen::Ref<const Eigen::MatrixXd>& rows_t);
   void AddAtToS();     ///< S += A^T A over the spans (unit weight)
   void Empty();
-  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  /// `place`: the sample's place in the current run of refusals (1, 2, ...), 0 outside one.
+  void Hold(const Eigen::MatrixXd& A, const Eigen::VectorXd& y, int place = 0);
   void ResolveHeld(bool kept);
   void EndBlockIfDue();
   void ResetBlocks();
@@ -268,6 +269,9 @@ class OnlineFit final : public RecursiveEstimator {
   long long residuals_seen_ = 0;
   int consecutive_ = 0, solves_ = 0;
   bool run_judged_ = false;  ///< a solve has refused samples of the current run of refusals
+  std::uint64_t run_id_ = 0;  ///< which run of refusals is the current one (one more per run)
+  std::vector<int> pending_place_;            ///< per held sample: its place in its run (0: none)
+  std::vector<std::uint64_t> pending_run_;    ///< per held sample: its run
   std::uint64_t changes_ = 0, generation_ = 0;
 };
 
