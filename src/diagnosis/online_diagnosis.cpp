@@ -9,15 +9,18 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include "inertial/diagnosis/candidate_ranking.hpp"
 #include "inertial/diagnosis/departure_margins.hpp"
 #include "inertial/diagnosis/explained_error.hpp"
 #include "inertial/diagnosis/held_payload_fit.hpp"
+#include "inertial/estimation/batch/region_barrier.hpp"
 #include "inertial/estimation/covariance_uncertainty.hpp"
 #include "inertial/inertia/consistency.hpp"
 #include "inertial/inertia/nearest_consistent.hpp"
 #include "inertial/model/body_region.hpp"
+#include "inertial/model/number_text.hpp"
 
 namespace inertial {
 namespace {
@@ -444,30 +447,42 @@ void AddPayloadCandidates(const RobotDynamics& model, const std::vector<OnlineBo
       out->notes.push_back(s.name + ": no payload could be fitted to what it carries beyond its URDF: no payload candidate");
       continue;
     }
-    // Holding the link at its URDF with this payload costs the fit 0.5 chi2 (held_payload_fit.hpp):
-    // a payload only if that is within chance, chi2 below its 99th percentile over the directions
-    // judged (a likelihood-ratio test at 1 %, the link's free pi traded for the payload's).
-    // The link with the payload taken out, judged against its URDF as the bent link was (its CAD
-    // tolerance and the estimate's margins): a payload only if that link is within the tolerance.
-    // The bare difference, made the nearest consistent body (nearest_consistent.hpp: same mass and
-    // COM, second moments clipped): its second moments are known only as well as the estimate's,
-    // and where the data leave them to the prior the difference can fall slightly outside.
-    std::optional<BodyPlausibility> after;
+    // The decision of held_payload_fit.hpp: not pinned at its region's boundary; the link without
+    // it a body within two standard deviations; and that body within the tolerance of its URDF.
+    const auto no_candidate = [&](const std::string& why) {
+      out->notes.push_back(s.name + ": no payload within the payload region (" + FormatNumber(fit->region_radius, 3) +
+                           " m about its frame) takes it back to its URDF (the nearest, " +
+                           FormatNumber(fit->payload.mass(), 3) + " kg, " + why + "): no payload candidate");
+    };
+    if (!(fit->slack >= kBarrierOnset)) {
+      no_candidate("is pushed against the region's boundary");
+      continue;
+    }
+    const InertialParams raw = InertialParams::FromVector(s.estimate.vector() - fit->payload.vector());
     InertialParams link;
-    if (NearestConsistentBody(InertialParams::FromVector(s.estimate.vector() - fit->payload.vector()), &link)) {
-      try {
-        after = MeasurePlausibility(link, s.prior, DepartureMarginsOf(s.prior, s.std, s.pi_covariance));
-      } catch (const std::invalid_argument&) {  // not a body: no payload
-      }
+    if (!NearestConsistentBody(raw, &link)) {
+      no_candidate("leaves a link of no mass");
+      continue;
+    }
+    // The repair (second moments clipped, mass and COM kept) is a change of the link's inertia
+    // about its COM; more than the tolerance allows its URDF (plausibility.hpp's inertia change,
+    // spectral norms) is a split no body makes: a payload that would take more from the link than
+    // the link has.
+    const Matrix3 clipped = link.rotational_inertia_about_com() - raw.rotational_inertia_about_com();
+    const double repair = Eigen::SelfAdjointEigenSolver<Matrix3>(clipped, Eigen::EigenvaluesOnly).eigenvalues().cwiseAbs().maxCoeff() /
+                          Eigen::SelfAdjointEigenSolver<Matrix3>(s.prior.rotational_inertia_about_com(), Eigen::EigenvaluesOnly).eigenvalues().cwiseAbs().maxCoeff();
+    if (!(repair <= tolerance)) {
+      no_candidate("leaves a link that is no body: its inertia about the COM short by " + FormatNumber(100.0 * repair, 3) +
+                   " % of its URDF's");
+      continue;
+    }
+    std::optional<BodyPlausibility> after;
+    try {
+      after = MeasurePlausibility(link, s.prior, DepartureMarginsOf(s.prior, s.std, s.pi_covariance));
+    } catch (const std::invalid_argument&) {
     }
     if (!after || !after->Within(tolerance)) {
-      char text[320];
-      std::snprintf(text, sizeof text,
-                    "%s: no payload within the robot's reach (%.3g m) of its frame takes it back to its URDF (the "
-                    "nearest, %.3g kg, leaves %s%.3g): no payload candidate",
-                    s.name.c_str(), reach, fit->payload.mass(),
-                    after ? "a departure factor " : "a link that is no body, chi2 ", after ? after->factor : fit->chi2);
-      out->notes.push_back(text);
+      no_candidate(after ? "leaves a departure factor " + FormatNumber(after->factor, 3) : "leaves no body");
       continue;
     }
     const double excess_after = after->Excess(tolerance);
@@ -482,7 +497,7 @@ void AddPayloadCandidates(const RobotDynamics& model, const std::vector<OnlineBo
     oc.evidence = JudgeCandidate(out->model, out->model, out->autocorrelation, out->samples, out->implausibility,
                                  out->implausibility - (std::isfinite(excess) ? excess : kUnmeasurableExcess) +
                                      excess_after,
-                                 10, PriorOdds::kOrdinary, rules);
+                                 4, PriorOdds::kOrdinary, rules);  // a point mass: m and c
     out->candidates.push_back(oc);
   }
 }

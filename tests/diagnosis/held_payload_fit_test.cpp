@@ -9,6 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "inertial/estimation/batch/region_barrier.hpp"
 #include "inertial/inertia/closed_form_bodies.hpp"
 #include "inertial/inertia/plausibility.hpp"
 #include "test_support.hpp"
@@ -64,7 +65,7 @@ TEST(HeldPayloadFit, APayloadAtTheLinksTipIsFoundAndTakesItBack) {
   EXPECT_TRUE(fit->converged);
   EXPECT_NEAR(fit->payload.mass(), 0.5, 0.05);
   EXPECT_LT((fit->payload.com() - Vector3(0, 0, -0.34)).norm(), 0.03);
-  EXPECT_GT(fit->slack, 0.0);
+  EXPECT_GE(fit->slack, kBarrierOnset);  // not pinned: the barrier plays no part
   EXPECT_LT(fit->chi2, 0.05 * fit->chi2_held);
   EXPECT_EQ(fit->rank, 10);
   // What is left is the link's CAD error: within the tolerance of its URDF.
@@ -78,7 +79,9 @@ TEST(HeldPayloadFit, APayloadBeyondTheRegionIsFittedInsideItAndLeavesTheLinkBent
   const std::optional<HeldPayloadFit> fit = FitHeldPayload(k.estimate, k.prior, k.covariance, 0.34);
   ASSERT_TRUE(fit);
   EXPECT_GT(fit->slack, 0.0);
+  EXPECT_LT(fit->slack, kBarrierOnset);  // pinned where the barrier begins: the data want it farther
   EXPECT_LT(fit->payload.com().norm(), 0.34 / 0.9 + 1e-9);  // ShapePointsOfSphere's circumscribed ball
+  EXPECT_NEAR(fit->region_radius, 0.34 / 0.9, 0.01);
   const Vector10 rest = k.estimate.vector() - fit->payload.vector();
   bool bent = true;
   try {
@@ -96,6 +99,36 @@ TEST(HeldPayloadFit, NoFitWithoutAnAddedMassOrACovariance) {
   Matrix10 nan = k.covariance;
   nan(3, 3) = std::nan("");
   EXPECT_FALSE(FitHeldPayload(k.estimate, k.prior, nan, 0.34));
+  EXPECT_FALSE(FitHeldPayload(k.estimate, k.prior, k.covariance, 1e-9));  // no region to draw
+}
+
+// Starts far outside the region, or an added mass beyond what the region can hold: the fit stays
+// inside the region and below its mass bound, or gives nothing.
+TEST(HeldPayloadFit, DegenerateDeparturesStayInsideTheRegionOrGiveNothing) {
+  const Case k = LinkWithPayload(0.5, Vector3(0, 0, -0.34));
+  for (const Vector10& added : {(Vector10() << 1e-5, 0.05, 0, 0, 0, 0, 0, 0, 0, 0).finished(),
+                                (Vector10() << 5e4, 0, 0, -1e4, 0, 0, 0, 0, 0, 0).finished()}) {
+    const InertialParams estimate = InertialParams::FromVector(k.prior.vector() + added);
+    const std::optional<HeldPayloadFit> fit = FitHeldPayload(estimate, k.prior, k.covariance, 0.34);
+    if (!fit) continue;
+    EXPECT_GT(fit->slack, 0.0);
+    EXPECT_LT(fit->payload.com().norm(), 0.34 / 0.9 + 1e-9);
+    EXPECT_LT(fit->payload.mass(), 7850.0 * 4.0 / 3.0 * std::acos(-1.0) * std::pow(fit->region_radius, 3) * 1.01);
+  }
+}
+
+// The fit's chi2 is taken in the body's units: with a covariance of 1 % of each component and a
+// floor of 1e-8 (a product of inertia that is zero known to 1e-8 kg m^2), every direction is
+// judged, and a payload of 2 kg at 0.3 m on the rod is found.
+TEST(HeldPayloadFit, EveryDirectionIsJudgedWhateverItsUnit) {
+  Case k = LinkWithPayload(2.0, Vector3(0, 0, -0.3));
+  const Vector10 s = (0.01 * k.estimate.vector().cwiseAbs()).cwiseMax(1e-8);
+  k.covariance = s.cwiseProduct(s).asDiagonal();
+  const std::optional<HeldPayloadFit> fit = FitHeldPayload(k.estimate, k.prior, k.covariance, 0.34);
+  ASSERT_TRUE(fit);
+  EXPECT_EQ(fit->rank, 10);
+  EXPECT_NEAR(fit->payload.mass(), 2.0, 0.1);
+  EXPECT_LT((fit->payload.com() - Vector3(0, 0, -0.3)).norm(), 0.02);
 }
 
 }  // namespace
