@@ -33,7 +33,7 @@ class ReplayDiagnose : public ::testing::Test {
   void SetUp() override {
     dir_ = testing::UniqueTempPath("replay-diagnose");
     fs::create_directories(dir_);
-    leg_ = testing::Example("leg3.urdf");
+    robot_ = testing::Example("leg3.urdf");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -41,7 +41,7 @@ class ReplayDiagnose : public ::testing::Test {
   // `overrides` replace the simulation's options of the same name.
   nlohmann::json Run(const std::string& effects, const std::string& values, bool candump = false,
                      const std::vector<std::string>& overrides = {}) {
-    std::vector<std::string> sim = {"simulate", "--model", leg_, "--duration", "40", "--rate", "500", "--perturb", "0.05",
+    std::vector<std::string> sim = {"simulate", "--model", robot_, "--duration", "40", "--rate", "500", "--perturb", "0.05",
                                     "--noise-tau", "0.05", "--seed", "3"};
     for (size_t k = 0; k + 1 < overrides.size(); k += 2) {
       const auto at = std::find(sim.begin(), sim.end(), overrides[k]);
@@ -65,7 +65,7 @@ motors:
     testing::CliRun r = RunCli(sim);
     EXPECT_EQ(r.exit_code, 0) << Describe(r);
     // Default options: the online fit, the noise found from the data (issue 46, part 3).
-    std::vector<std::string> replay = {"replay", "--model", leg_, "--diagnose", "--json"};
+    std::vector<std::string> replay = {"replay", "--model", robot_, "--diagnose", "--json"};
     if (candump) {
       replay.insert(replay.end(), {"--candump", log, "--can-config", motors});
     } else {
@@ -77,7 +77,7 @@ motors:
   }
 
   fs::path dir_;
-  std::string leg_;
+  std::string robot_;  ///< the robot simulated and replayed (the leg unless a test says otherwise)
 };
 
 
@@ -135,6 +135,8 @@ TEST_F(ReplayDiagnose, CoulombFrictionOnTheKneeFromACandumpLog) {
 TEST_F(ReplayDiagnose, CleanStreamsGetNoSuggestion) {
   EXPECT_EQ(Top(Run("", "")), "(none)");
   EXPECT_EQ(Top(Run("", "", /*candump=*/true)), "(none)");
+  robot_ = testing::Example("arm7.urdf");  // the 7-DOF arm's LCM log (its motors have no CAN layout here)
+  EXPECT_EQ(Top(Run("", "", false, {"--duration", "30"})), "(none)");
 }
 
 }  // namespace
