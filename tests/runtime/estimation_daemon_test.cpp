@@ -201,7 +201,7 @@ TEST(EstimationDaemon, MalformedMessagesAreCountedAndChangeNothing) {
   // The daemon solves on a thread of its own (its statistics summed in another order): the same
   // fit of the same samples, up to where Levenberg-Marquardt stops in the valleys only the prior
   // holds (online_fit.hpp): the same torques.
-  EXPECT_EQ(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples());
+  EXPECT_NEAR(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples(), 2.0);
   EXPECT_LT(TorqueDifference(model, daemon.robot_estimator()->coefficients(), direct.coefficients(), s.samples), 1e-3);  // identify's stopping rule: ~sqrt(1e-7)
 
   // The exit publication: the final estimate, consistent bodies, the counters.
@@ -783,7 +783,14 @@ TEST(EstimationDaemon, MotorsOnACanBus) {
   runner.join();
   const DaemonCounters c = daemon.counters();
   EXPECT_EQ(c.samples.received, frames.size());
-  EXPECT_EQ(c.samples.accepted, s.samples.size() - 1) << daemon.CountersText();  // the first tick primes the acceleration filter
+  // The first tick primes the acceleration filter. The daemon's solver judges the samples held
+  // beyond the gate on its own schedule, against the fit of its snapshot: one near the gate's edge
+  // may be judged otherwise than by the direct run's solves (1 of 2000 seen with six sanitizer runs
+  // sharing two cores), so the counts agree within 2 and the estimates within the stopping rule.
+  const auto ticks = static_cast<double>(s.samples.size() - 1);
+  EXPECT_NEAR(static_cast<double>(c.samples.accepted), ticks, 2.0) << daemon.CountersText();
+  EXPECT_EQ(c.samples.accepted + c.samples.buffered + c.samples[*RejectionNamed("outlier")], s.samples.size() - 1)
+      << daemon.CountersText();
   const std::uint64_t bad = (s.samples.size() + 39) / 40;
   EXPECT_EQ(c.samples[*RejectionNamed("malformed")], bad);
   EXPECT_EQ(c.samples[*RejectionNamed("error_frame")], bad);
@@ -802,7 +809,7 @@ TEST(EstimationDaemon, MotorsOnACanBus) {
   }
   direct.Solve(true);
   // The daemon's solves run on their own thread: the same fit, the same torques (see above).
-  EXPECT_EQ(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples());
+  EXPECT_NEAR(daemon.robot_estimator()->fit()->effective_samples(), direct.fit()->effective_samples(), 2.0);
   EXPECT_LT(TorqueDifference(model, daemon.robot_estimator()->coefficients(), direct.coefficients(), s.samples), 1e-3);  // identify's stopping rule: ~sqrt(1e-7)
 }
 
