@@ -73,6 +73,24 @@ OnlineEstimatorOptions Converged() {
   return o;
 }
 
+// x with the shank (body 2) heavier by `kg`: its log-Cholesky alpha moved (mass times e^(2 alpha)).
+Eigen::VectorXd WithHeavierShank(const RobotDynamics& model, const Eigen::VectorXd& x, double kg) {
+  Eigen::VectorXd out = x;
+  out[20] += 0.5 * std::log(1.0 + kg / model.BodyInertia(2, x).mass());
+  return out;
+}
+
+// Samples [from, to) of a log (to < 0: its end), shifted by t0 seconds, solving whenever due.
+void FeedSolving(OnlineJointEstimator& est, const JointSamples& log, double t0 = 0.0, int from = 0, int to = -1) {
+  JointSample s;
+  for (int i = from; i < (to < 0 ? log.size() : to); ++i) {
+    CopySample(log, i, &s);
+    s.t += t0;
+    est.Update(s);
+    if (est.SolveDue()) est.Solve();
+  }
+}
+
 struct Case {
   std::string effects;
   std::vector<double> values;
@@ -246,21 +264,12 @@ TEST(OnlineFit, RestoredStateContinuesExactly) {
 TEST(OnlineFit, AnAbruptChangeStartsTheStatisticsOver) {
   const RobotDynamics model = PriorLeg();
   const Eigen::VectorXd x_before = testing::TrueParameters(model, {0.0}, 10, 0.1);
-  Eigen::VectorXd x_after = x_before;
-  x_after[20] += 0.5 * std::log(1.0 + 1.5 / model.BodyInertia(2, x_before).mass());  // shank alpha: mass + 1.5 kg
+  const Eigen::VectorXd x_after = WithHeavierShank(model, x_before, 1.5);
   const testing::SimulatedLogs before = testing::SimulateLogs(model, x_before, 0.02, 6.0, 10, 250);
   const testing::SimulatedLogs after = testing::SimulateLogs(model, x_after, 0.02, 6.0, 11, 250);
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()));
-  JointSample s;
-  for (const JointSamples* log : {&before.train, &after.train}) {
-    const double t0 = log == &before.train ? 0.0 : 6.5;
-    for (int i = 0; i < log->size(); ++i) {
-      CopySample(*log, i, &s);
-      s.t += t0;
-      est.Update(s);
-      if (est.SolveDue()) est.Solve();
-    }
-  }
+  FeedSolving(est, before.train);
+  FeedSolving(est, after.train, 6.5);
   est.Solve();
   EXPECT_EQ(est.estimator().changes_detected(), 1u);
   // The shank's mass is the loaded one's rather than the unloaded one's.
@@ -276,22 +285,17 @@ TEST(OnlineFit, AnAbruptChangeStartsTheStatisticsOver) {
 TEST(OnlineFit, ARunNoSolveHasJudgedIsNotAChange) {
   const RobotDynamics model = PriorLeg();
   const Eigen::VectorXd x_before = testing::TrueParameters(model, {0.0}, 10, 0.1);
-  Eigen::VectorXd x_after = x_before;
-  x_after[20] += 0.5 * std::log(1.0 + 1.5 / model.BodyInertia(2, x_before).mass());  // shank: + 1.5 kg
+  const Eigen::VectorXd x_after = WithHeavierShank(model, x_before, 1.5);
   const testing::SimulatedLogs before = testing::SimulateLogs(model, x_before, 0.02, 6.0, 10, 250);
   const testing::SimulatedLogs after = testing::SimulateLogs(model, x_after, 0.02, 6.0, 11, 250);
   OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()));
-  JointSample s;
-  for (int i = 0; i < before.train.size(); ++i) {
-    CopySample(before.train, i, &s);
-    est.Update(s);
-    if (est.SolveDue()) est.Solve();
-  }
+  FeedSolving(est, before.train);
   est.Solve();
   const std::uint64_t kept = est.fit()->Equations().num_samples;
   const std::uint64_t outliers = est.estimator().counters()[UpdateStatus::kOutlier];
   ASSERT_GT(kept, static_cast<std::uint64_t>(before.train.size() * 9 / 10));
   const int lagging = 200;  // 0.8 s at 250 Hz with no solve
+  JointSample s;
   for (int i = 0; i < lagging; ++i) {
     CopySample(after.train, i, &s);
     s.t += 6.5;
@@ -305,12 +309,7 @@ TEST(OnlineFit, ARunNoSolveHasJudgedIsNotAChange) {
   EXPECT_EQ(est.estimator().counters()[UpdateStatus::kOutlier] - outliers, static_cast<std::uint64_t>(lagging - held));
   est.Solve();  // judges the held samples: refused by the fit that includes them
   EXPECT_EQ(est.estimator().changes_detected(), 0u);
-  for (int i = lagging; i < after.train.size(); ++i) {
-    CopySample(after.train, i, &s);
-    s.t += 6.5;
-    est.Update(s);
-    if (est.SolveDue()) est.Solve();
-  }
+  FeedSolving(est, after.train, 6.5, lagging);
   est.Solve();
   EXPECT_EQ(est.estimator().changes_detected(), 1u);
   const double m_after = model.BodyInertia(2, x_after).mass(), m_before = model.BodyInertia(2, x_before).mass();
@@ -325,20 +324,15 @@ TEST(OnlineFit, ARunNoSolveHasJudgedIsNotAChange) {
 TEST(OnlineFit, ALaggingSolveThatKeepsTheRunIsNoChange) {
   const RobotDynamics model = PriorLeg();
   const Eigen::VectorXd x_body = testing::TrueParameters(model, {0.0}, 10, 0.1);
-  Eigen::VectorXd x_other = x_body;
-  x_other[20] += 0.5 * std::log(1.0 + 1.5 / model.BodyInertia(2, x_body).mass());
+  const Eigen::VectorXd x_other = WithHeavierShank(model, x_body, 1.5);
   const testing::SimulatedLogs before = testing::SimulateLogs(model, x_body, 0.02, 6.0, 10, 250);
   const testing::SimulatedLogs later = testing::SimulateLogs(model, x_body, 0.02, 6.0, 12, 250);
   enum Case { kRunKept, kGlitchInTheRun, kSnapshotBeforeTheRun };
   for (const Case c : {kRunKept, kGlitchInTheRun, kSnapshotBeforeTheRun}) {
     OnlineJointEstimator est(model, Eigen::VectorXd::Zero(model.num_parameters()));
-    JointSample s;
-    for (int i = 0; i < before.train.size(); ++i) {
-      CopySample(before.train, i, &s);
-      est.Update(s);
-      if (est.SolveDue()) est.Solve();
-    }
+    FeedSolving(est, before.train);
     est.Solve();
+    JointSample s;
     int k = 0;
     const auto next = [&](double glitch) {
       CopySample(later.train, k++, &s);
