@@ -132,7 +132,10 @@ sleep 0.5; kill -INT $LOGGER; wait $LOGGER
   eo.measurement_sigma = 0.3;
   OnlineJointEstimator replayed(model, Eigen::VectorXd::Zero(model.num_parameters()), eo);
   const ReplayResult r = ReplayLog((dir / "recorded.lcm").string(), &replayed, ReplayOptions{});
-  EXPECT_EQ(r.counters.accepted, 2403u);
+  // On failure, whether the recording lacks messages (received) or the replay refused some.
+  EXPECT_EQ(r.counters.accepted, 2403u) << "received " << r.counters.received << ", buffered " << r.counters.buffered
+                                        << ", rejected " << r.counters.total_rejected() << " ("
+                                        << RejectionsText(r.counters) << ")";
   EXPECT_EQ(r.counters[Rejection::kDecode],
             static_cast<std::uint64_t>(malformed));
   // The daemon's final state (saved at SIGINT) is the replay's: the same samples, the same fit
